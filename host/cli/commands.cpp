@@ -1,0 +1,123 @@
+#include "cli/commands.h"
+
+#include "cli/interrupt.h"
+#include "cli/progress.h"
+#include "device/device_context.h"
+#include "device/device_scene.h"
+#include "image/accumulator.h"
+#include "image/image.h"
+#include "image/stats_io.h"
+#include "passes/path_tracer.h"
+#include "passes/render_loop.h"
+#include "scene/bvh.h"
+#include "scene/gltf_loader.h"
+#include "scene/patches.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+namespace bp {
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+}  // namespace
+
+int run_devices() {
+  for (const DeviceInfo& d : list_devices()) {
+    std::printf("[%d] %s  (%s; %s; driver %s; %u compute units; %llu MiB)\n", d.index, d.device_name.c_str(),
+                d.platform_name.c_str(), d.is_gpu ? "GPU" : "CPU", d.driver_version.c_str(), d.compute_units,
+                static_cast<unsigned long long>(d.global_memory_bytes >> 20));
+  }
+  return 0;
+}
+
+int run_render(const RenderOptions& o) {
+  using clock = std::chrono::steady_clock;
+  auto t_load = clock::now();
+  Scene scene = load_gltf(o.scene);
+  for (const std::string& w : scene.warnings) std::fprintf(stderr, "bundlepath: warning: %s: %s\n", o.scene.c_str(), w.c_str());
+  double load_seconds = seconds_since(t_load);
+
+  int width = o.width;
+  int height = o.height;
+  if (height == 0)
+    height = scene.camera.aspect > 0.0f ? std::max(1, int(std::lround(width / scene.camera.aspect))) : width;
+
+  float patch_size = o.patch_size > 0.0f ? o.patch_size : default_patch_size(scene);
+  PatchLayout patches;
+  try {
+    patches = build_patch_layout(scene, patch_size);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
+  auto t_bvh = clock::now();
+  FlatBvh bvh = build_bvh(scene.triangles);
+  double bvh_seconds = seconds_since(t_bvh);
+
+  DeviceContext device(select_device(o.device));
+  DeviceScene device_scene(device, bvh, pack_triangle_shading(scene, patches), pack_materials(scene));
+  PathTracerSettings settings;
+  settings.seed = o.seed;
+  settings.max_depth = o.max_depth;
+  PathTracerPass pass(device, device_scene, pack_camera(scene.camera, width, height), ray_epsilon_for(scene.bounds),
+                      settings);
+
+  install_interrupt_handlers();
+  Accumulator accum(width, height);
+  ProgressBar bar(o.mode);
+  const double pixels = double(width) * height;
+  RenderOutcome outcome = run_path_tracer(
+      pass, accum, RenderBudget{o.spp, o.seconds}, stop_requested(), [&](const RenderProgress& p) {
+        double secs = std::max(p.elapsed_seconds, 1e-9);
+        bar.update(p.fraction, double(p.spp_done) * pixels / secs, double(p.rays) / secs * 1e-6, p.elapsed_seconds);
+      });
+  bar.finish();
+
+  ImageRGB image = accum.mean();
+  std::filesystem::path prefix(o.out_prefix);
+  if (prefix.has_parent_path()) std::filesystem::create_directories(prefix.parent_path());
+  const std::string exr_path = o.out_prefix + ".exr", png_path = o.out_prefix + ".png";
+  write_exr(exr_path, {{"", &image}});
+  write_png(png_path, image, o.exposure);
+
+  double mrays_per_second = outcome.seconds > 0 ? double(outcome.rays) / outcome.seconds * 1e-6 : 0.0;
+  if (!o.stats_path.empty()) {
+    nlohmann::json stats;
+    stats["scene"] = o.scene;
+    stats["device"] = device.description();
+    stats["mode"] = o.mode;
+    stats["width"] = width;
+    stats["height"] = height;
+    stats["spp"] = outcome.spp;
+    stats["seed"] = o.seed;
+    stats["triangles"] = scene.triangles.size();
+    stats["patches"] = patches.patch_count;
+    stats["patch_size"] = patch_size;
+    stats["load_seconds"] = load_seconds;
+    stats["bvh_build_seconds"] = bvh_seconds;
+    stats["kernel_build_seconds"] = pass.program().build_seconds;
+    stats["kernel_from_cache"] = pass.program().from_cache;
+    stats["render_seconds"] = outcome.seconds;
+    stats["rays"] = outcome.rays;
+    stats["mrays_per_second"] = mrays_per_second;
+    stats["nan_or_inf_samples"] = outcome.nonfinite_samples;
+    stats["interrupted"] = outcome.interrupted;
+    for (const auto& [name, t] : pass.launcher().totals())
+      stats["launches"][name] = {{"count", t.launches}, {"device_seconds", t.device_seconds}};
+    write_json_file(o.stats_path, stats);
+  }
+  std::fprintf(stderr, "bundlepath: %s%llu spp at %dx%d in %.2f s (%.2f Mrays/s) -> %s, %s\n",
+               outcome.interrupted ? "interrupted after " : "", static_cast<unsigned long long>(outcome.spp), width,
+               height, outcome.seconds, mrays_per_second, exr_path.c_str(), png_path.c_str());
+  if (outcome.nonfinite_samples)
+    std::fprintf(stderr, "bundlepath: warning: %llu NaN/Inf samples were dropped\n",
+                 static_cast<unsigned long long>(outcome.nonfinite_samples));
+  return outcome.interrupted ? 130 : 0;
+}
+
+}  // namespace bp

@@ -1,0 +1,11 @@
+// Ctrl-C / SIGTERM: the first asks the render to stop after its current batch (the image so far is
+// written); a second one exits at once.
+#pragma once
+#include <atomic>
+
+namespace bp {
+
+void install_interrupt_handlers();
+const std::atomic<bool>& stop_requested();
+
+}  // namespace bp

@@ -1,0 +1,123 @@
+#include "cli/options.h"
+
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+#include <functional>
+#include <map>
+
+namespace bp {
+namespace {
+
+template <class T>
+T parse_number(const std::string& option, const std::string& text, T min_value, T max_value, const char* what) {
+  T value{};
+  const char* end = text.data() + text.size();
+  auto [ptr, ec] = std::from_chars(text.data(), end, value);
+  bool ok = ec == std::errc() && ptr == end;
+  if constexpr (std::is_floating_point_v<T>) ok = ok && std::isfinite(value);
+  if (!ok || value < min_value || value > max_value)
+    throw UsageError(option + ": expected " + what + ", got '" + text + "'");
+  return value;
+}
+
+}  // namespace
+
+const char* main_help() {
+  return R"(bundlepath - global illumination on any OpenCL device
+
+usage:
+  bundlepath render SCENE.gltf|SCENE.glb [options]   render an image (see `bundlepath render --help`)
+  bundlepath devices                                 list OpenCL platforms and devices with their index
+  bundlepath --help | --version
+
+exit codes: 0 done; 1 device or I/O failure; 2 bad command line or no OpenCL platform;
+            3 the scene file cannot be used; 130 interrupted (the samples done so far were written)
+)";
+}
+
+const char* render_help() {
+  return R"(usage: bundlepath render SCENE [options]
+
+Renders SCENE (glTF 2.0: .gltf or .glb) and writes PREFIX.exr (linear float32) and PREFIX.png
+(tone-mapped sRGB). Ctrl-C stops after the current batch and writes what is done (exit 130).
+
+options (defaults in brackets):
+  --out PREFIX        output path without extension            [out/<scene name>]
+  --width W           image width in pixels, 1..16384          [512]
+  --height H          image height in pixels, 1..16384         [width / camera aspect ratio]
+  --spp N             samples per pixel                        [64, unless --time is given]
+  --time SECONDS      stop after this much rendering time; with --spp, whichever comes first
+  --seed K            random seed; same seed, same device -> bit-identical image   [1]
+  --device SPEC       device index or name substring (see `bundlepath devices`)  [first GPU, else CPU]
+  --mode MODE         estimator: pt (path tracing)             [pt]
+  --patch-size M      target patch edge in metres              [scene diagonal / 40]
+  --stats FILE        write run statistics as JSON
+  --exposure STOPS    exposure of the PNG                      [0]
+  --max-depth N       safety cap on path length                [65536]
+  -h, --help          this text
+)";
+}
+
+RenderOptions parse_render_options(const std::vector<std::string>& args) {
+  RenderOptions o;
+  bool spp_given = false;
+  using Setter = std::function<void(const std::string& option, const std::string& value)>;
+  const std::map<std::string, Setter> setters = {
+      {"--out", [&](auto&, auto& v) { o.out_prefix = v; }},
+      {"--width", [&](auto& k, auto& v) { o.width = parse_number<int>(k, v, 1, 16384, "an integer in 1..16384"); }},
+      {"--height", [&](auto& k, auto& v) { o.height = parse_number<int>(k, v, 1, 16384, "an integer in 1..16384"); }},
+      {"--spp", [&](auto& k, auto& v) {
+         o.spp = parse_number<std::uint64_t>(k, v, 1, 1ull << 32, "a positive integer");
+         spp_given = true;
+       }},
+      {"--time", [&](auto& k, auto& v) { o.seconds = parse_number<double>(k, v, 1e-3, 1e7, "seconds > 0"); }},
+      {"--seed", [&](auto& k, auto& v) {
+         o.seed = parse_number<std::uint32_t>(k, v, 0, 0xffffffffu, "an integer in 0..4294967295");
+       }},
+      {"--device", [&](auto&, auto& v) { o.device = v; }},
+      {"--mode", [&](auto& k, auto& v) {
+         if (v != "pt") throw UsageError(k + ": unknown mode '" + v + "' (available: pt)");
+         o.mode = v;
+       }},
+      {"--patch-size", [&](auto& k, auto& v) {
+         o.patch_size = parse_number<float>(k, v, 1e-9f, 1e9f, "a length in metres > 0");
+       }},
+      {"--stats", [&](auto&, auto& v) { o.stats_path = v; }},
+      {"--exposure", [&](auto& k, auto& v) { o.exposure = parse_number<float>(k, v, -64.0f, 64.0f, "stops in -64..64"); }},
+      {"--max-depth", [&](auto& k, auto& v) {
+         o.max_depth = parse_number<std::uint32_t>(k, v, 1, 1u << 24, "an integer in 1..16777216");
+       }},
+  };
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    std::string arg = args[i];
+    if (arg.rfind("--", 0) == 0) {
+      std::string value;
+      bool has_value = false;
+      if (auto eq = arg.find('='); eq != std::string::npos) {
+        value = arg.substr(eq + 1);
+        arg = arg.substr(0, eq);
+        has_value = true;
+      }
+      auto it = setters.find(arg);
+      if (it == setters.end()) throw UsageError("unknown option '" + arg + "' (see `bundlepath render --help`)");
+      if (!has_value) {
+        if (i + 1 >= args.size()) throw UsageError(arg + ": missing value");
+        value = args[++i];
+      }
+      it->second(arg, value);
+    } else if (arg.size() > 1 && arg[0] == '-') {
+      throw UsageError("unknown option '" + arg + "' (see `bundlepath render --help`)");
+    } else if (o.scene.empty()) {
+      o.scene = arg;
+    } else {
+      throw UsageError("unexpected argument '" + arg + "': only one scene file is rendered at a time");
+    }
+  }
+  if (o.scene.empty()) throw UsageError("no scene file given (usage: bundlepath render SCENE.gltf [options])");
+  if (!spp_given && o.seconds == 0.0) o.spp = 64;
+  if (o.out_prefix.empty()) o.out_prefix = (std::filesystem::path("out") / std::filesystem::path(o.scene).stem()).string();
+  return o;
+}
+
+}  // namespace bp

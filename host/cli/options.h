@@ -1,0 +1,38 @@
+// Command-line options of `bundlepath render`, parsed and range-checked.
+#pragma once
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace bp {
+
+// A command line that cannot be used: exit code 2, message names the option.
+class UsageError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct RenderOptions {
+  std::string scene;
+  std::string out_prefix;        // default: out/<scene file stem>
+  int width = 512;
+  int height = 0;                // 0: from the width and the camera's aspect ratio (square if none)
+  std::uint64_t spp = 0;         // 0 and no time: 64
+  double seconds = 0.0;
+  std::uint32_t seed = 1;
+  std::string device;            // empty: first GPU, else first CPU
+  std::string mode = "pt";
+  float patch_size = 0.0f;       // metres; 0: derived from the scene's extent
+  std::string stats_path;
+  float exposure = 0.0f;         // PNG exposure in stops
+  std::uint32_t max_depth = 65536;
+};
+
+// Parses the arguments after "render". Throws UsageError.
+RenderOptions parse_render_options(const std::vector<std::string>& args);
+
+const char* render_help();
+const char* main_help();
+
+}  // namespace bp

@@ -1,0 +1,39 @@
+#include "cli/progress.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <unistd.h>
+
+namespace bp {
+
+std::string format_duration(double s) {
+  char buf[32];
+  if (!std::isfinite(s) || s < 0) return "--:--";
+  long t = long(s + 0.5);
+  if (t >= 3600) std::snprintf(buf, sizeof buf, "%ld:%02ld:%02ld", t / 3600, (t / 60) % 60, t % 60);
+  else std::snprintf(buf, sizeof buf, "%02ld:%02ld", t / 60, t % 60);
+  return buf;
+}
+
+ProgressBar::ProgressBar(std::string label) : label_(std::move(label)), enabled_(::isatty(STDERR_FILENO) == 1) {}
+
+void ProgressBar::update(double fraction, double samples_per_second, double mrays_per_second, double elapsed) {
+  if (!enabled_) return;
+  const int width = 30;
+  int filled = int(std::lround(std::clamp(fraction, 0.0, 1.0) * width));
+  std::string bar(std::size_t(filled), '#');
+  bar.resize(width, '.');
+  double eta = fraction > 0.0 ? elapsed * (1.0 - fraction) / fraction : NAN;
+  std::fprintf(stderr, "\r%s [%s] %5.1f%%  %.3g samples/s  %.2f Mrays/s  ETA %s ", label_.c_str(), bar.c_str(),
+               fraction * 100.0, samples_per_second, mrays_per_second, format_duration(eta).c_str());
+  std::fflush(stderr);
+  drawn_ = true;
+}
+
+void ProgressBar::finish() {
+  if (enabled_ && drawn_) std::fputc('\n', stderr);
+  drawn_ = false;
+}
+
+}  // namespace bp

@@ -1,0 +1,81 @@
+#include "device/device_scene.h"
+#include "device/launcher.h"
+
+#include <cmath>
+
+namespace bp {
+
+std::vector<Material> pack_materials(const Scene& scene) {
+  std::vector<Material> out;
+  out.reserve(scene.materials.size());
+  for (const SceneMaterial& m : scene.materials) {
+    Material p{};
+    for (int c = 0; c < 3; ++c) {
+      p.kd[c] = m.kd[c];
+      p.ks[c] = m.ks[c];
+      p.emission[c] = m.emission[c];
+    }
+    p.shininess = m.shininess;
+    p.flags = m.double_sided ? BP_MATERIAL_DOUBLE_SIDED : 0u;
+    out.push_back(p);
+  }
+  return out;
+}
+
+std::vector<TriangleShading> pack_triangle_shading(const Scene& scene, const PatchLayout& patches) {
+  std::vector<TriangleShading> out(scene.triangles.size());
+  for (std::size_t i = 0; i < scene.triangles.size(); ++i) {
+    const SceneTriangle& t = scene.triangles[i];
+    glm::vec3 c = glm::cross(t.p[1] - t.p[0], t.p[2] - t.p[0]);
+    float len = glm::length(c);
+    glm::vec3 n = len > 0.0f ? c / len : glm::vec3(0.0f, 0.0f, 1.0f);
+    TriangleShading& s = out[i];
+    s = TriangleShading{};
+    s.normal[0] = n.x; s.normal[1] = n.y; s.normal[2] = n.z;
+    s.material = t.material;
+    s.first_patch = patches.first_patch[i];
+    s.patch_subdiv = patches.subdiv[i];
+    s.area = 0.5f * len;
+  }
+  return out;
+}
+
+CameraParams pack_camera(const SceneCamera& camera, int width, int height) {
+  CameraParams p{};
+  glm::vec3 forward = glm::normalize(camera.forward);
+  glm::vec3 right = glm::normalize(glm::cross(forward, camera.up));
+  glm::vec3 up = glm::cross(right, forward);
+  float tan_y = std::tan(0.5f * camera.yfov);
+  for (int c = 0; c < 3; ++c) {
+    p.position[c] = camera.position[c];
+    p.forward[c] = forward[c];
+    p.right[c] = right[c];
+    p.up[c] = up[c];
+  }
+  p.tan_half_fov_y = tan_y;
+  p.tan_half_fov_x = tan_y * float(width) / float(height);  // square pixels: the image's aspect wins
+  p.width = std::uint32_t(width);
+  p.height = std::uint32_t(height);
+  return p;
+}
+
+float ray_epsilon_for(const Bounds& bounds) {
+  float diagonal = glm::length(bounds.extent());
+  float magnitude = std::max(glm::length(bounds.lo), glm::length(bounds.hi));
+  // 1e-5 of the scene, but never below a few float ulps of the coordinates themselves.
+  return std::max(1e-5f * diagonal, 3e-7f * magnitude);
+}
+
+DeviceScene::DeviceScene(const DeviceContext& device, const FlatBvh& bvh, const std::vector<TriangleShading>& shading_in,
+                         const std::vector<Material>& materials_in)
+    : nodes(upload_buffer(device, "bvh nodes", bvh.nodes)),
+      triangles(upload_buffer(device, "bvh triangles", bvh.triangles)),
+      shading(upload_buffer(device, "triangle shading", shading_in)),
+      materials(upload_buffer(device, "materials", materials_in)),
+      triangle_count(shading_in.size()),
+      node_count(bvh.nodes.size()) {
+  bytes = bvh.nodes.size() * sizeof(BvhNode) + bvh.triangles.size() * sizeof(BvhTriangle) +
+          shading_in.size() * sizeof(TriangleShading) + materials_in.size() * sizeof(Material);
+}
+
+}  // namespace bp

@@ -1,0 +1,29 @@
+// The scene on the device: BVH, per-triangle shading records and materials, packed into the
+// structs of kernels/shared/types.h and uploaded once.
+#pragma once
+#include "device/device_context.h"
+#include "scene/bvh.h"
+#include "scene/patches.h"
+#include "scene/scene.h"
+#include "kernels/shared/types.h"
+#include <vector>
+
+namespace bp {
+
+// Host-side packing, separate from upload so it can be tested without a device.
+std::vector<Material> pack_materials(const Scene& scene);
+std::vector<TriangleShading> pack_triangle_shading(const Scene& scene, const PatchLayout& patches);
+CameraParams pack_camera(const SceneCamera& camera, int width, int height);
+// Offset for secondary rays: relative to the scene's size and coordinate magnitude, so it works at
+// every scale (1e-3 to 1e4 m).
+float ray_epsilon_for(const Bounds& bounds);
+
+struct DeviceScene {
+  cl::Buffer nodes, triangles, shading, materials;
+  std::size_t triangle_count = 0, node_count = 0;
+  std::size_t bytes = 0;  // device memory held
+  DeviceScene(const DeviceContext& device, const FlatBvh& bvh, const std::vector<TriangleShading>& shading,
+              const std::vector<Material>& materials);
+};
+
+}  // namespace bp

@@ -1,0 +1,17 @@
+// The structs of kernels/shared/types.h are compiled by both compilers: their host layout must be
+// what OpenCL C gives them (4-byte scalars, no implicit padding, sizes multiple of 16).
+#include "kernels/shared/types.h"
+#include <cstddef>
+
+#define BP_CHECK_LAYOUT(T, size) \
+  static_assert(sizeof(T) == (size), #T " changed size: update the kernels and this check"); \
+  static_assert(sizeof(T) % 16 == 0, #T " must be a multiple of 16 bytes")
+
+BP_CHECK_LAYOUT(Material, 48);
+static_assert(offsetof(Material, ks) == 16 && offsetof(Material, emission) == 32);
+BP_CHECK_LAYOUT(TriangleShading, 32);
+static_assert(offsetof(TriangleShading, material) == 12 && offsetof(TriangleShading, area) == 24);
+BP_CHECK_LAYOUT(CameraParams, 64);
+static_assert(offsetof(CameraParams, right) == 16 && offsetof(CameraParams, forward) == 48);
+BP_CHECK_LAYOUT(PathTraceParams, 32);
+BP_CHECK_LAYOUT(PixelAccum, 32);

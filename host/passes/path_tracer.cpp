@@ -1,0 +1,44 @@
+#include "passes/path_tracer.h"
+
+namespace bp {
+
+PathTracerPass::PathTracerPass(const DeviceContext& device, const DeviceScene& scene, const CameraParams& camera,
+                               float ray_epsilon, const PathTracerSettings& settings)
+    : device_(device), camera_(camera), launcher_(device) {
+  params_.seed = settings.seed;
+  params_.max_depth = settings.max_depth;
+  params_.ray_epsilon = ray_epsilon;
+  params_.weight_mode = settings.weight_mode;
+  params_.weight_ratio = settings.weight_ratio;
+  program_ = build_program(device, "pathtrace.cl");
+  kernel_ = cl::Kernel(program_.program, "pathtrace");
+  std::size_t pixels = std::size_t(camera.width) * camera.height;
+  host_pixels_.resize(pixels);
+  pixels_ = make_buffer(device, "pixel accumulators", CL_MEM_WRITE_ONLY, pixels * sizeof(PixelAccum));
+  kernel_.setArg(0, scene.nodes);
+  kernel_.setArg(1, scene.triangles);
+  kernel_.setArg(2, scene.shading);
+  kernel_.setArg(3, scene.materials);
+  kernel_.setArg(4, camera_);
+  kernel_.setArg(6, pixels_);
+}
+
+BatchCounts PathTracerPass::run(std::uint32_t first, std::uint32_t count, Accumulator& accum) {
+  params_.first_sample = first;
+  params_.samples_per_launch = count;
+  kernel_.setArg(5, params_);
+  launcher_.launch("pathtrace", kernel_, host_pixels_.size(), 64);
+  launcher_.finish();
+  device_.queue.enqueueReadBuffer(pixels_, CL_TRUE, 0, host_pixels_.size() * sizeof(PixelAccum), host_pixels_.data());
+  BatchCounts counts;
+  for (std::size_t i = 0; i < host_pixels_.size(); ++i) {
+    const PixelAccum& p = host_pixels_[i];
+    for (int c = 0; c < 3; ++c) accum.sum[i * 3 + c] += double(p.radiance[c]);
+    counts.rays += p.rays;
+    counts.nonfinite_samples += p.nonfinite_samples;
+  }
+  accum.samples_per_pixel += count;
+  return counts;
+}
+
+}  // namespace bp

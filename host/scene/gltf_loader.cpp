@@ -1,0 +1,746 @@
+// glTF 2.0 -> Scene. tinygltf parses; every index and byte range is checked here, because
+// tinygltf 2.7 trusts them. Every failure is one SceneError line "<path>: <object> <problem>".
+#include "scene/gltf_loader.h"
+
+// Must match host/scene/tiny_gltf_impl.cpp.
+#define TINYGLTF_NO_STB_IMAGE
+#define TINYGLTF_NO_STB_IMAGE_WRITE
+#define TINYGLTF_NO_EXTERNAL_IMAGE
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wall"
+#pragma GCC diagnostic ignored "-Wextra"
+#include <tiny_gltf.h>
+#pragma GCC diagnostic pop
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+namespace bp {
+namespace {
+
+constexpr int kModePoints = 0, kModeTriangles = 4, kModeStrip = 5, kModeFan = 6;
+constexpr const char* kModeNames[] = {"POINTS", "LINES", "LINE_LOOP", "LINE_STRIP",
+                                      "TRIANGLES", "TRIANGLE_STRIP", "TRIANGLE_FAN"};
+
+std::string one_line(std::string s) {
+  for (char& c : s)
+    if (c == '\n' || c == '\r') c = ' ';
+  while (!s.empty() && s.back() == ' ') s.pop_back();
+  std::string out;
+  for (char c : s)  // collapse the runs the newline replacement leaves
+    if (!(c == ' ' && !out.empty() && out.back() == ' ')) out += c;
+  return out;
+}
+
+std::string quoted(const std::string& name) { return name.empty() ? "" : " \"" + name + "\""; }
+
+std::string percent_decode(const std::string& s) {
+  std::string out;
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    if (s[i] == '%' && i + 2 < s.size() && std::isxdigit((unsigned char)s[i + 1]) &&
+        std::isxdigit((unsigned char)s[i + 2])) {
+      out += char(std::stoi(s.substr(i + 1, 2), nullptr, 16));
+      i += 2;
+    } else {
+      out += s[i];
+    }
+  }
+  return out;
+}
+
+// True if `uri` (not a data: URI) names a file inside the asset's folder: relative, no scheme,
+// never climbing above its start with "..".
+bool uri_stays_inside(const std::string& uri) {
+  const std::string path = percent_decode(uri);
+  if (path.empty() || path[0] == '/' || path[0] == '\\') return false;
+  const auto slash = path.find_first_of("/\\");
+  if (path.find(':') < slash) return false;  // "file:", "http:", "C:"
+  int depth = 0;
+  std::size_t start = 0;
+  while (start <= path.size()) {
+    std::size_t end = path.find_first_of("/\\", start);
+    if (end == std::string::npos) end = path.size();
+    const std::string part = path.substr(start, end - start);
+    if (part == "..") {
+      if (--depth < 0) return false;
+    } else if (!part.empty() && part != ".") {
+      ++depth;
+    }
+    start = end + 1;
+  }
+  return true;
+}
+
+std::uint32_t read_u32_le(const unsigned char* p) {
+  return std::uint32_t(p[0]) | std::uint32_t(p[1]) << 8 | std::uint32_t(p[2]) << 16 |
+         std::uint32_t(p[3]) << 24;
+}
+
+bool all_finite(const glm::dmat4& m) {
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r)
+      if (!std::isfinite(m[c][r])) return false;
+  return true;
+}
+
+// Image data is never used; accept every image without decoding it.
+bool ignore_image(tinygltf::Image*, const int, std::string*, std::string*, int, int,
+                  const unsigned char*, int, void*) {
+  return true;
+}
+
+struct LocalTriangle {
+  glm::vec3 p[3];
+  std::uint32_t material;
+};
+
+class Loader {
+ public:
+  explicit Loader(std::string path) : path_(std::move(path)) {}
+
+  Scene load() {
+    parse();
+    scene_.source = path_;
+    read_materials();
+    traverse();
+    finish();
+    return std::move(scene_);
+  }
+
+ private:
+  [[noreturn]] void fail(const std::string& what) const {
+    throw SceneError(one_line(path_ + ": " + what));
+  }
+
+  // ------------------------------------------------------------------ parsing
+
+  void parse() {
+    std::ifstream in(path_, std::ios::binary);
+    if (!in) fail(std::string("cannot open file (") + std::strerror(errno) + ")");
+    std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)),
+                                     std::istreambuf_iterator<char>());
+    if (in.bad()) fail("read error");
+    if (bytes.empty()) fail("file is empty, not glTF");
+
+    std::string base_dir = std::filesystem::path(path_).parent_path().string();
+    if (base_dir.empty()) base_dir = ".";
+
+    tinygltf::TinyGLTF reader;
+    reader.SetImageLoader(&ignore_image, nullptr);
+    std::string err, warn;
+    bool ok = false;
+    const bool glb = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
+    if (glb) {
+      precheck_json(glb_json_chunk(bytes));
+      ok = reader.LoadBinaryFromMemory(&model_, &err, &warn, bytes.data(),
+                                       unsigned(bytes.size()), base_dir);
+    } else {
+      std::size_t first = 0;
+      while (first < bytes.size() && std::isspace(bytes[first])) ++first;
+      if (first == bytes.size() || bytes[first] != '{')
+        fail("is not glTF (neither a JSON object nor a binary .glb)");
+      precheck_json(std::string(bytes.begin(), bytes.end()));
+      ok = reader.LoadASCIIFromString(&model_, &err, &warn, reinterpret_cast<const char*>(bytes.data()),
+                                      unsigned(bytes.size()), base_dir);
+    }
+    if (!ok) fail("glTF parse failed: " + (err.empty() ? std::string("unknown error") : err));
+    std::istringstream lines(warn);
+    for (std::string line; std::getline(lines, line);)
+      if (!one_line(line).empty()) scene_.warnings.push_back("glTF: " + one_line(line));
+  }
+
+  // The JSON chunk of a .glb, after checking the header and chunk table.
+  std::string glb_json_chunk(const std::vector<unsigned char>& b) const {
+    if (b.size() < 20) fail(".glb header is truncated (" + std::to_string(b.size()) + " bytes)");
+    const std::uint32_t version = read_u32_le(&b[4]), length = read_u32_le(&b[8]);
+    if (version != 2) fail(".glb header has version " + std::to_string(version) + " (only 2 is supported)");
+    if (length > b.size())
+      fail(".glb header declares " + std::to_string(length) + " bytes but the file has " +
+           std::to_string(b.size()));
+    const std::uint32_t json_length = read_u32_le(&b[12]), json_type = read_u32_le(&b[16]);
+    if (json_type != 0x4E4F534Au) fail(".glb first chunk is not JSON");
+    if (std::uint64_t(json_length) + 20 > length) fail(".glb JSON chunk runs past the end of the file");
+    std::uint64_t at = 20 + std::uint64_t(json_length);
+    if (at + 8 <= length) {
+      const std::uint32_t bin_length = read_u32_le(&b[at]);
+      if (at + 8 + bin_length > length) fail(".glb BIN chunk runs past the end of the file");
+    }
+    return std::string(b.begin() + 20, b.begin() + 20 + json_length);
+  }
+
+  // Checks on the raw JSON that must happen before tinygltf reads it: a readable syntax error,
+  // buffer URIs that stay in the asset's folder, and the indices tinygltf itself dereferences.
+  void precheck_json(const std::string& text) const {
+    nlohmann::json j;
+    try {
+      j = nlohmann::json::parse(text);
+    } catch (const nlohmann::json::parse_error& e) {
+      fail(std::string("JSON syntax error: ") + e.what());
+    }
+    if (!j.is_object()) fail("is not glTF (the JSON top level is not an object)");
+    auto array = [&](const char* key) -> const nlohmann::json& {
+      static const nlohmann::json empty = nlohmann::json::array();
+      auto it = j.find(key);
+      return it != j.end() && it->is_array() ? *it : empty;
+    };
+    auto index = [](const nlohmann::json& o, const char* key) -> long long {
+      auto it = o.find(key);
+      return it != o.end() && it->is_number_integer() ? it->get<long long>() : -1;
+    };
+    const auto& buffers = array("buffers");
+    for (std::size_t i = 0; i < buffers.size(); ++i) {
+      if (!buffers[i].is_object() || !buffers[i].contains("uri") || !buffers[i]["uri"].is_string()) continue;
+      const std::string uri = buffers[i]["uri"];
+      if (uri.rfind("data:", 0) == 0) continue;
+      if (!uri_stays_inside(uri))
+        fail("buffer " + std::to_string(i) + " uri \"" + uri +
+             "\" leaves the asset's folder (only relative paths inside it are allowed)");
+    }
+    const auto& accessors = array("accessors");
+    const auto& views = array("bufferViews");
+    const auto& meshes = array("meshes");
+    for (std::size_t m = 0; m < meshes.size(); ++m) {
+      if (!meshes[m].is_object() || !meshes[m].contains("primitives")) continue;
+      const auto& prims = meshes[m]["primitives"];
+      if (!prims.is_array()) continue;
+      for (std::size_t p = 0; p < prims.size(); ++p) {
+        if (!prims[p].is_object() || !prims[p].contains("indices")) continue;
+        const long long a = index(prims[p], "indices");
+        const std::string role = "(indices of mesh " + std::to_string(m) + " primitive " + std::to_string(p) + ")";
+        if (a < 0 || std::size_t(a) >= accessors.size())
+          fail("accessor " + prims[p]["indices"].dump() + " " + role + " does not exist (the file has " +
+               std::to_string(accessors.size()) + " accessors)");
+        if (!accessors[a].is_object() || !accessors[a].contains("bufferView"))
+          fail("accessor " + std::to_string(a) + " " + role + " has no buffer view");
+        const long long v = index(accessors[a], "bufferView");
+        if (v < 0 || std::size_t(v) >= views.size())
+          fail("accessor " + std::to_string(a) + " " + role + " refers to buffer view " +
+               accessors[a]["bufferView"].dump() + ", but the file has " + std::to_string(views.size()) +
+               " buffer views");
+      }
+    }
+    const auto& images = array("images");
+    for (std::size_t i = 0; i < images.size(); ++i) {
+      if (!images[i].is_object() || !images[i].contains("bufferView")) continue;
+      const long long v = index(images[i], "bufferView");
+      if (v < 0 || std::size_t(v) >= views.size() || !views[v].is_object())
+        fail("image " + std::to_string(i) + " refers to a buffer view that does not exist");
+      const long long b = index(views[v], "buffer");
+      if (b < 0 || std::size_t(b) >= buffers.size() || !buffers[b].is_object())
+        fail("buffer view " + std::to_string(v) + " refers to a buffer that does not exist");
+      const auto num = [](const nlohmann::json& o, const char* key) -> double {
+        auto it = o.find(key);
+        return it != o.end() && it->is_number() ? it->get<double>() : 0.0;
+      };
+      if (num(views[v], "byteOffset") + num(views[v], "byteLength") > num(buffers[b], "byteLength"))
+        fail("buffer view " + std::to_string(v) + " (image " + std::to_string(i) +
+             ") runs past the end of buffer " + std::to_string(b));
+    }
+  }
+
+  // ------------------------------------------------------------------ accessors
+
+  std::string accessor_name(int index, const std::string& role) const {
+    return "accessor " + std::to_string(index) + " (" + role + ")";
+  }
+
+  // The bytes of buffer view `v`, checked against its buffer.
+  const unsigned char* view_bytes(int v, const std::string& user) const {
+    if (v < 0 || std::size_t(v) >= model_.bufferViews.size())
+      fail(user + " refers to buffer view " + std::to_string(v) + ", but the file has " +
+           std::to_string(model_.bufferViews.size()) + " buffer views");
+    const auto& view = model_.bufferViews[v];
+    if (view.buffer < 0 || std::size_t(view.buffer) >= model_.buffers.size())
+      fail("buffer view " + std::to_string(v) + " refers to buffer " + std::to_string(view.buffer) +
+           ", but the file has " + std::to_string(model_.buffers.size()) + " buffers");
+    const auto& data = model_.buffers[view.buffer].data;
+    if (view.byteOffset > data.size() || view.byteLength > data.size() - view.byteOffset)
+      fail("buffer view " + std::to_string(v) + " runs past the end of buffer " + std::to_string(view.buffer) +
+           " (offset " + std::to_string(view.byteOffset) + " + length " + std::to_string(view.byteLength) +
+           " > " + std::to_string(data.size()) + " bytes)");
+    return data.data() + view.byteOffset;
+  }
+
+  // Checks that `count` elements of `element_size` bytes at `offset` with `stride` fit in `length`.
+  static bool fits(std::uint64_t offset, std::uint64_t count, std::uint64_t stride,
+                   std::uint64_t element_size, std::uint64_t length) {
+    if (count == 0) return offset <= length;
+    if (offset > length || element_size > length - offset) return false;
+    return (count - 1) <= (length - offset - element_size) / stride;
+  }
+
+  static double component(const unsigned char* p, int type) {
+    switch (type) {
+      case TINYGLTF_COMPONENT_TYPE_BYTE: { std::int8_t v; std::memcpy(&v, p, 1); return v; }
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return *p;
+      case TINYGLTF_COMPONENT_TYPE_SHORT: { std::int16_t v; std::memcpy(&v, p, 2); return v; }
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: { std::uint16_t v; std::memcpy(&v, p, 2); return v; }
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: { std::uint32_t v; std::memcpy(&v, p, 4); return v; }
+      default: { float v; std::memcpy(&v, p, 4); return v; }
+    }
+  }
+
+  // Accessor `index` as count x components doubles, sparse substitutions applied. `role` names
+  // its use for messages ("POSITION of mesh 0 primitive 1").
+  std::vector<double> read_accessor(int index, const std::string& role, int want_type,
+                                    std::initializer_list<int> allowed_components) const {
+    if (index < 0 || std::size_t(index) >= model_.accessors.size())
+      fail(accessor_name(index, role) + " does not exist (the file has " +
+           std::to_string(model_.accessors.size()) + " accessors)");
+    const auto& acc = model_.accessors[index];
+    const std::string name = accessor_name(index, role);
+    if (acc.type != want_type)
+      fail(name + " has type " + type_name(acc.type) + "; expected " + type_name(want_type));
+    if (std::find(allowed_components.begin(), allowed_components.end(), acc.componentType) ==
+        allowed_components.end())
+      fail(name + " has unsupported component type " + std::to_string(acc.componentType) +
+           (acc.normalized ? " (normalized integers)" : ""));
+    const std::size_t ncomp = std::size_t(tinygltf::GetNumComponentsInType(acc.type));
+    const std::size_t csize = std::size_t(tinygltf::GetComponentSizeInBytes(acc.componentType));
+    const std::size_t esize = ncomp * csize;
+
+    std::vector<double> out;
+    if (acc.bufferView < 0 && !acc.sparse.isSparse) fail(name + " has no buffer view and is not sparse");
+    if (acc.bufferView >= 0) {
+      const unsigned char* base = view_bytes(acc.bufferView, name);
+      const auto& view = model_.bufferViews[acc.bufferView];
+      const std::size_t stride = view.byteStride ? view.byteStride : esize;
+      if (stride < esize)
+        fail("buffer view " + std::to_string(acc.bufferView) + " has byteStride " + std::to_string(stride) +
+             ", smaller than an element of " + name + " (" + std::to_string(esize) + " bytes)");
+      if (!fits(acc.byteOffset, acc.count, stride, esize, view.byteLength))
+        fail(name + " runs past the end of buffer view " + std::to_string(acc.bufferView));
+      out.resize(acc.count * ncomp);
+      for (std::size_t i = 0; i < acc.count; ++i)
+        for (std::size_t c = 0; c < ncomp; ++c)
+          out[i * ncomp + c] = component(base + acc.byteOffset + i * stride + c * csize, acc.componentType);
+    } else {  // a sparse accessor without a view starts from zeros
+      if (acc.count > (std::size_t(1) << 28)) fail(name + " has an implausible count " + std::to_string(acc.count));
+      out.assign(acc.count * ncomp, 0.0);
+    }
+    if (acc.sparse.isSparse) apply_sparse(acc, name, ncomp, csize, out);
+    return out;
+  }
+
+  void apply_sparse(const tinygltf::Accessor& acc, const std::string& name, std::size_t ncomp,
+                    std::size_t csize, std::vector<double>& out) const {
+    const auto& sp = acc.sparse;
+    if (sp.count < 1 || std::size_t(sp.count) > acc.count)
+      fail(name + " has sparse count " + std::to_string(sp.count) + " outside [1, " +
+           std::to_string(acc.count) + "]");
+    const int itype = sp.indices.componentType;
+    if (itype != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && itype != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+        itype != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
+      fail(name + " has sparse indices of unsupported component type " + std::to_string(itype));
+    if (sp.indices.byteOffset < 0 || sp.values.byteOffset < 0)
+      fail(name + " has a negative sparse byteOffset");
+    const std::size_t isize = std::size_t(tinygltf::GetComponentSizeInBytes(itype));
+    const unsigned char* ibase = view_bytes(sp.indices.bufferView, name + " sparse indices");
+    if (!fits(std::size_t(sp.indices.byteOffset), std::size_t(sp.count), isize, isize,
+              model_.bufferViews[sp.indices.bufferView].byteLength))
+      fail(name + " sparse indices run past the end of buffer view " + std::to_string(sp.indices.bufferView));
+    const unsigned char* vbase = view_bytes(sp.values.bufferView, name + " sparse values");
+    const std::size_t esize = ncomp * csize;
+    if (!fits(std::size_t(sp.values.byteOffset), std::size_t(sp.count), esize, esize,
+              model_.bufferViews[sp.values.bufferView].byteLength))
+      fail(name + " sparse values run past the end of buffer view " + std::to_string(sp.values.bufferView));
+    double previous = -1.0;
+    for (std::size_t s = 0; s < std::size_t(sp.count); ++s) {
+      const double target = component(ibase + sp.indices.byteOffset + s * isize, itype);
+      if (target >= double(acc.count))
+        fail(name + " sparse index " + std::to_string(std::uint64_t(target)) + " is out of range (count " +
+             std::to_string(acc.count) + ")");
+      if (target <= previous)
+        fail(name + " sparse indices are not strictly increasing at entry " + std::to_string(s));
+      previous = target;
+      for (std::size_t c = 0; c < ncomp; ++c)
+        out[std::size_t(target) * ncomp + c] =
+            component(vbase + sp.values.byteOffset + s * esize + c * csize, acc.componentType);
+    }
+  }
+
+  static std::string type_name(int type) {
+    switch (type) {
+      case TINYGLTF_TYPE_SCALAR: return "SCALAR";
+      case TINYGLTF_TYPE_VEC2: return "VEC2";
+      case TINYGLTF_TYPE_VEC3: return "VEC3";
+      case TINYGLTF_TYPE_VEC4: return "VEC4";
+      case TINYGLTF_TYPE_MAT2: return "MAT2";
+      case TINYGLTF_TYPE_MAT3: return "MAT3";
+      case TINYGLTF_TYPE_MAT4: return "MAT4";
+      default: return std::to_string(type);
+    }
+  }
+
+  // ------------------------------------------------------------------ materials
+
+  glm::vec3 rgb(const tinygltf::Value& v, const std::string& where) const {
+    if (!v.IsArray() || v.ArrayLen() != 3) fail(where + " is not an array of 3 numbers");
+    glm::vec3 out;
+    for (int i = 0; i < 3; ++i) {
+      if (!v.Get(i).IsNumber()) fail(where + " is not an array of 3 numbers");
+      out[i] = float(v.Get(i).GetNumberAsDouble());
+    }
+    return out;
+  }
+
+  static const tinygltf::Value* member(const tinygltf::Value& v, const char* key) {
+    return v.IsObject() && v.Has(key) ? &v.Get(key) : nullptr;
+  }
+  static const tinygltf::Value* extension(const tinygltf::ExtensionMap& ext, const char* name, const char* key) {
+    auto it = ext.find(name);
+    return it == ext.end() ? nullptr : member(it->second, key);
+  }
+
+  void read_materials() {
+    SceneMaterial fallback;
+    fallback.name = "default";  // kd 0.8 grey Lambert, for primitives without a material
+    scene_.materials.push_back(fallback);
+    for (std::size_t i = 0; i < model_.materials.size(); ++i) {
+      const auto& m = model_.materials[i];
+      const std::string obj = "material " + std::to_string(i) + quoted(m.name);
+      SceneMaterial out;
+      out.name = m.name.empty() ? "material " + std::to_string(i) : m.name;
+      out.double_sided = m.doubleSided;
+      if (const auto* phong = member(m.extras, "phong")) {
+        const auto* kd = member(*phong, "kd");
+        const auto* ks = member(*phong, "ks");
+        const auto* n = member(*phong, "shininess");
+        out.kd = kd ? rgb(*kd, obj + " extras.phong.kd") : glm::vec3(0.0f);
+        out.ks = ks ? rgb(*ks, obj + " extras.phong.ks") : glm::vec3(0.0f);
+        if (n && !n->IsNumber()) fail(obj + " extras.phong.shininess is not a number");
+        out.shininess = n ? float(n->GetNumberAsDouble()) : 1.0f;
+      } else {
+        const auto& pbr = m.pbrMetallicRoughness;
+        glm::vec3 base(1.0f);
+        if (pbr.baseColorFactor.size() >= 3)
+          base = glm::vec3(float(pbr.baseColorFactor[0]), float(pbr.baseColorFactor[1]),
+                           float(pbr.baseColorFactor[2]));
+        const float metallic = float(pbr.metallicFactor);
+        const auto* sf = extension(m.extensions, "KHR_materials_specular", "specularFactor");
+        const float specular = sf && sf->IsNumber() ? float(sf->GetNumberAsDouble()) : 1.0f;
+        out.kd = base * (1.0f - metallic);
+        out.ks = metallic * base + (1.0f - metallic) * 0.04f * specular;
+        const double a = double(pbr.roughnessFactor) * pbr.roughnessFactor;
+        const double n = a > 0.0 ? 2.0 / (a * a) - 2.0 : 1e6;
+        out.shininess = float(std::clamp(n, 0.0, 1e6));
+      }
+      float strength = 1.0f;
+      if (const auto* s = extension(m.extensions, "KHR_materials_emissive_strength", "emissiveStrength")) {
+        if (!s->IsNumber()) fail(obj + " KHR_materials_emissive_strength.emissiveStrength is not a number");
+        strength = float(s->GetNumberAsDouble());
+      }
+      if (m.emissiveFactor.size() == 3)
+        out.emission = strength * glm::vec3(float(m.emissiveFactor[0]), float(m.emissiveFactor[1]),
+                                            float(m.emissiveFactor[2]));
+      for (int c = 0; c < 3; ++c) {
+        if (!std::isfinite(out.kd[c]) || !std::isfinite(out.ks[c]) || out.kd[c] < 0.0f || out.ks[c] < 0.0f)
+          fail(obj + " has a negative or non-finite kd/ks");
+        if (!std::isfinite(out.emission[c]) || out.emission[c] < 0.0f)
+          fail(obj + " has a negative or non-finite emission");
+      }
+      if (!std::isfinite(out.shininess) || out.shininess < 0.0f)
+        fail(obj + " has a negative or non-finite shininess");
+      const float max_albedo = bp_max(out.kd + out.ks);
+      if (max_albedo > 1.0f) {  // DESIGN.md §6: max(kd + ks) <= 1
+        out.kd /= max_albedo;
+        out.ks /= max_albedo;
+        std::ostringstream w;
+        w << obj << ": kd + ks reaches " << max_albedo << " > 1; kd and ks scaled down to keep energy";
+        scene_.warnings.push_back(w.str());
+      }
+      scene_.materials.push_back(out);
+    }
+  }
+
+  static float bp_max(const glm::vec3& v) { return std::max(v.x, std::max(v.y, v.z)); }
+
+  // ------------------------------------------------------------------ meshes
+
+  std::vector<std::uint32_t> read_indices(int index, const std::string& role) const {
+    const auto raw = read_accessor(index, role, TINYGLTF_TYPE_SCALAR,
+                                   {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
+                                    TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT});
+    return std::vector<std::uint32_t>(raw.begin(), raw.end());
+  }
+
+  // The triangles of mesh `m` in its local space (read once, reused by every node instancing it).
+  const std::vector<LocalTriangle>& mesh_triangles(int m) {
+    auto found = mesh_cache_.find(m);
+    if (found != mesh_cache_.end()) return found->second;
+    std::vector<LocalTriangle> tris;
+    const auto& mesh = model_.meshes[m];
+    for (std::size_t p = 0; p < mesh.primitives.size(); ++p) {
+      const auto& prim = mesh.primitives[p];
+      const std::string obj = "mesh " + std::to_string(m) + " primitive " + std::to_string(p);
+      if (prim.mode < kModePoints || prim.mode > kModeFan) fail(obj + " has unknown mode " + std::to_string(prim.mode));
+      if (prim.mode < kModeTriangles) {
+        ++skipped_modes_[prim.mode];
+        continue;
+      }
+      std::uint32_t material = 0;
+      if (prim.material >= 0) {
+        if (std::size_t(prim.material) >= model_.materials.size())
+          fail(obj + " refers to material " + std::to_string(prim.material) + ", but the file has " +
+               std::to_string(model_.materials.size()) + " materials");
+        material = std::uint32_t(prim.material) + 1;
+      } else if (prim.material < -1) {
+        fail(obj + " refers to material " + std::to_string(prim.material));
+      }
+      auto pos_it = prim.attributes.find("POSITION");
+      if (pos_it == prim.attributes.end()) {
+        ++primitives_without_position_;
+        continue;
+      }
+      const std::string pos_role = "POSITION of " + obj;
+      const auto raw = read_accessor(pos_it->second, pos_role, TINYGLTF_TYPE_VEC3, {TINYGLTF_COMPONENT_TYPE_FLOAT});
+      std::vector<glm::vec3> pos(raw.size() / 3);
+      for (std::size_t i = 0; i < pos.size(); ++i) {
+        pos[i] = glm::vec3(float(raw[3 * i]), float(raw[3 * i + 1]), float(raw[3 * i + 2]));
+        if (!std::isfinite(pos[i].x) || !std::isfinite(pos[i].y) || !std::isfinite(pos[i].z))
+          fail(accessor_name(pos_it->second, pos_role) + " holds a non-finite position at element " +
+               std::to_string(i));
+      }
+      std::vector<std::uint32_t> idx;
+      if (prim.indices >= 0) {
+        const std::string role = "indices of " + obj;
+        idx = read_indices(prim.indices, role);
+        for (std::size_t i = 0; i < idx.size(); ++i)
+          if (idx[i] >= pos.size())
+            fail(accessor_name(prim.indices, role) + " holds index " + std::to_string(idx[i]) + " at element " +
+                 std::to_string(i) + ", but POSITION has " + std::to_string(pos.size()) + " vertices");
+      } else {
+        idx.resize(pos.size());
+        for (std::size_t i = 0; i < idx.size(); ++i) idx[i] = std::uint32_t(i);
+      }
+      auto emit = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+        tris.push_back(LocalTriangle{{pos[a], pos[b], pos[c]}, material});
+      };
+      const std::size_t n = idx.size();
+      if (prim.mode == kModeTriangles) {
+        if (n % 3 != 0) ++ragged_triangle_lists_;
+        for (std::size_t i = 0; i + 2 < n; i += 3) emit(idx[i], idx[i + 1], idx[i + 2]);
+      } else if (prim.mode == kModeStrip) {
+        for (std::size_t i = 0; i + 2 < n; ++i) {  // glTF spec: odd triangles swap to keep the winding
+          if (i % 2 == 0) emit(idx[i], idx[i + 1], idx[i + 2]);
+          else emit(idx[i], idx[i + 2], idx[i + 1]);
+        }
+      } else {
+        for (std::size_t i = 1; i + 1 < n; ++i) emit(idx[0], idx[i], idx[i + 1]);
+      }
+    }
+    return mesh_cache_.emplace(m, std::move(tris)).first->second;
+  }
+
+  // ------------------------------------------------------------------ nodes
+
+  glm::dmat4 local_transform(int n) const {
+    const auto& node = model_.nodes[n];
+    const std::string obj = "node " + std::to_string(n) + quoted(node.name);
+    glm::dmat4 m(1.0);
+    if (!node.matrix.empty()) {
+      if (node.matrix.size() != 16) fail(obj + " matrix has " + std::to_string(node.matrix.size()) + " numbers, not 16");
+      m = glm::make_mat4(node.matrix.data());  // column-major, like glTF
+    } else {
+      if (!node.translation.empty() && node.translation.size() != 3) fail(obj + " translation is not 3 numbers");
+      if (!node.rotation.empty() && node.rotation.size() != 4) fail(obj + " rotation is not 4 numbers");
+      if (!node.scale.empty() && node.scale.size() != 3) fail(obj + " scale is not 3 numbers");
+      glm::dmat4 t(1.0), r(1.0), s(1.0);
+      if (!node.translation.empty())
+        t = glm::translate(glm::dmat4(1.0), glm::dvec3(node.translation[0], node.translation[1], node.translation[2]));
+      if (!node.rotation.empty()) {
+        glm::dquat q(node.rotation[3], node.rotation[0], node.rotation[1], node.rotation[2]);
+        const double len = glm::length(q);
+        if (!(len > 0.0) || !std::isfinite(len)) fail(obj + " rotation is not a unit quaternion");
+        r = glm::mat4_cast(q / len);
+      }
+      if (!node.scale.empty()) s = glm::scale(glm::dmat4(1.0), glm::dvec3(node.scale[0], node.scale[1], node.scale[2]));
+      m = t * r * s;
+    }
+    if (!all_finite(m)) fail(obj + " has a non-finite transform");
+    return m;
+  }
+
+  void check_node_index(int n, const std::string& user) const {
+    if (n < 0 || std::size_t(n) >= model_.nodes.size())
+      fail(user + " refers to node " + std::to_string(n) + ", but the file has " +
+           std::to_string(model_.nodes.size()) + " nodes");
+  }
+
+  std::vector<int> root_nodes() {
+    if (model_.defaultScene >= 0 || !model_.scenes.empty()) {
+      const int s = model_.defaultScene >= 0 ? model_.defaultScene : 0;
+      if (std::size_t(s) >= model_.scenes.size())
+        fail("default scene " + std::to_string(s) + " does not exist (the file has " +
+             std::to_string(model_.scenes.size()) + " scenes)");
+      for (int n : model_.scenes[s].nodes) check_node_index(n, "scene " + std::to_string(s));
+      return model_.scenes[s].nodes;
+    }
+    std::vector<bool> is_child(model_.nodes.size(), false);  // no scenes: every root node
+    for (std::size_t n = 0; n < model_.nodes.size(); ++n)
+      for (int c : model_.nodes[n].children) {
+        check_node_index(c, "node " + std::to_string(n));
+        is_child[c] = true;
+      }
+    std::vector<int> roots;
+    for (std::size_t n = 0; n < model_.nodes.size(); ++n)
+      if (!is_child[n]) roots.push_back(int(n));
+    return roots;
+  }
+
+  // Depth-first over the default scene, with an explicit stack (deep hierarchies) and an
+  // on-stack set (cycles).
+  void traverse() {
+    struct Frame {
+      int node;
+      glm::dmat4 world;
+      std::size_t next_child;
+    };
+    std::vector<char> on_stack(model_.nodes.size(), 0);
+    for (int root : root_nodes()) {
+      std::vector<Frame> stack;
+      auto enter = [&](int n, const glm::dmat4& parent) {
+        if (on_stack[n]) fail("node " + std::to_string(n) + " is its own ancestor (cycle in the node hierarchy)");
+        on_stack[n] = 1;
+        const glm::dmat4 world = parent * local_transform(n);
+        if (!all_finite(world)) fail("node " + std::to_string(n) + " has a non-finite world transform");
+        visit(n, world);
+        stack.push_back(Frame{n, world, 0});
+      };
+      enter(root, glm::dmat4(1.0));
+      while (!stack.empty()) {
+        Frame& top = stack.back();
+        const auto& children = model_.nodes[top.node].children;
+        if (top.next_child == children.size()) {
+          on_stack[top.node] = 0;
+          stack.pop_back();
+          continue;
+        }
+        const int child = children[top.next_child++];
+        check_node_index(child, "node " + std::to_string(top.node));
+        const glm::dmat4 parent = top.world;  // `top` dies if the stack grows
+        enter(child, parent);
+      }
+    }
+  }
+
+  void visit(int n, const glm::dmat4& world) {
+    const auto& node = model_.nodes[n];
+    const std::string obj = "node " + std::to_string(n) + quoted(node.name);
+    if (node.camera != -1) {
+      if (node.camera < 0 || std::size_t(node.camera) >= model_.cameras.size())
+        fail(obj + " refers to camera " + std::to_string(node.camera) + ", but the file has " +
+             std::to_string(model_.cameras.size()) + " cameras");
+      take_camera(node.camera, n, world);
+    }
+    if (node.mesh == -1) return;
+    if (node.mesh < 0 || std::size_t(node.mesh) >= model_.meshes.size())
+      fail(obj + " refers to mesh " + std::to_string(node.mesh) + ", but the file has " +
+           std::to_string(model_.meshes.size()) + " meshes");
+    const bool flip = glm::determinant(glm::dmat3(world)) < 0.0;  // mirrored: keep fronts in front
+    for (const LocalTriangle& t : mesh_triangles(node.mesh)) {
+      SceneTriangle out;
+      for (int k = 0; k < 3; ++k) out.p[k] = glm::vec3(world * glm::dvec4(glm::dvec3(t.p[k]), 1.0));
+      if (flip) std::swap(out.p[1], out.p[2]);
+      out.material = t.material;
+      const glm::dvec3 a(out.p[0]), b(out.p[1]), c(out.p[2]);
+      const double cross = glm::length(glm::cross(b - a, c - a));
+      const double longest = std::max({glm::length(b - a), glm::length(c - a), glm::length(c - b)});
+      bool finite = true;
+      for (int k = 0; k < 3; ++k) finite = finite && std::isfinite(out.p[k].x) && std::isfinite(out.p[k].y) && std::isfinite(out.p[k].z);
+      if (!finite) fail(obj + " places mesh " + std::to_string(node.mesh) + " at non-finite positions");
+      if (!(cross > 1e-10 * longest * longest)) {  // zero area (up to float noise of collinear points)
+        ++degenerate_;
+        continue;
+      }
+      scene_.triangles.push_back(out);
+    }
+  }
+
+  void take_camera(int c, int n, const glm::dmat4& world) {
+    const auto& cam = model_.cameras[c];
+    const std::string obj = "camera " + std::to_string(c) + quoted(cam.name);
+    if (cam.type == "orthographic") {
+      scene_.warnings.push_back(obj + " (node " + std::to_string(n) + ") is orthographic; ignored");
+      return;
+    }
+    if (cam.type != "perspective") fail(obj + " has unknown type \"" + cam.type + "\"");
+    const double yfov = cam.perspective.yfov, aspect = cam.perspective.aspectRatio;
+    if (!(yfov > 0.0 && yfov < M_PI)) fail(obj + " has yfov " + std::to_string(yfov) + " outside (0, pi)");
+    if (!(aspect >= 0.0 && std::isfinite(aspect))) fail(obj + " has aspectRatio " + std::to_string(aspect));
+    if (camera_found_) return;  // the first camera in the traversal is the view
+    const glm::dvec3 position(world * glm::dvec4(0, 0, 0, 1));
+    glm::dvec3 forward = glm::dmat3(world) * glm::dvec3(0, 0, -1);
+    glm::dvec3 up = glm::dmat3(world) * glm::dvec3(0, 1, 0);
+    forward = glm::normalize(forward);
+    up = glm::normalize(up - glm::dot(up, forward) * forward);
+    if (!std::isfinite(forward.x + forward.y + forward.z + up.x + up.y + up.z))
+      fail("node " + std::to_string(n) + " gives " + obj + " a degenerate orientation");
+    scene_.camera.position = glm::vec3(position);
+    scene_.camera.forward = glm::vec3(forward);
+    scene_.camera.up = glm::vec3(up);
+    scene_.camera.yfov = float(yfov);
+    scene_.camera.aspect = float(aspect);
+    scene_.camera.from_file = true;
+    camera_found_ = true;
+  }
+
+  // ------------------------------------------------------------------ the end
+
+  void finish() {
+    for (const auto& [mode, count] : skipped_modes_)
+      scene_.warnings.push_back("skipped " + std::to_string(count) + " primitive(s) of mode " + kModeNames[mode] +
+                                "; only triangles are rendered");
+    if (primitives_without_position_)
+      scene_.warnings.push_back("skipped " + std::to_string(primitives_without_position_) +
+                                " primitive(s) without POSITION");
+    if (ragged_triangle_lists_)
+      scene_.warnings.push_back(std::to_string(ragged_triangle_lists_) +
+                                " TRIANGLES primitive(s) have an index count that is not a multiple of 3; "
+                                "the extra indices are ignored");
+    if (degenerate_)
+      scene_.warnings.push_back("dropped " + std::to_string(degenerate_) + " degenerate (zero-area) triangle(s)");
+    if (scene_.triangles.empty()) fail("scene has no triangles");
+    for (const auto& t : scene_.triangles)
+      for (const auto& p : t.p) scene_.bounds.grow(p);
+    if (!camera_found_) {
+      // Default view (gltf_loader.h): from +z, the bounding sphere fits the vertical field of view.
+      SceneCamera cam;
+      const float radius = std::max(0.5f * glm::length(scene_.bounds.extent()), 1e-6f);
+      const float distance = radius / std::sin(0.5f * cam.yfov);
+      cam.forward = glm::vec3(0, 0, -1);
+      cam.up = glm::vec3(0, 1, 0);
+      cam.position = scene_.bounds.centre() + glm::vec3(0, 0, distance);
+      cam.from_file = false;
+      scene_.camera = cam;
+      scene_.warnings.push_back("no camera in file; using a default view");
+    }
+    if (scene_.emissive_triangles() == 0) scene_.warnings.push_back("no emitter: the image will be black");
+  }
+
+  std::string path_;
+  tinygltf::Model model_;
+  Scene scene_;
+  std::map<int, std::vector<LocalTriangle>> mesh_cache_;
+  std::map<int, std::size_t> skipped_modes_;
+  std::size_t primitives_without_position_ = 0, ragged_triangle_lists_ = 0, degenerate_ = 0;
+  bool camera_found_ = false;
+};
+
+}  // namespace
+
+Scene load_gltf(const std::string& path) { return Loader(path).load(); }
+
+}  // namespace bp

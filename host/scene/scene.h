@@ -1,0 +1,53 @@
+// The scene as the renderer sees it, independent of file format and of OpenCL.
+#pragma once
+#include <glm/glm.hpp>
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace bp {
+
+struct SceneMaterial {
+  std::string name;
+  glm::vec3 kd{0.8f};          // diffuse albedo
+  glm::vec3 ks{0.0f};          // specular albedo
+  float shininess = 1.0f;      // Phong exponent n
+  glm::vec3 emission{0.0f};    // radiance Le, W sr^-1 m^-2 (front side; both if double_sided)
+  bool double_sided = false;
+};
+
+struct SceneTriangle {
+  glm::vec3 p[3];              // world space, metres, counter-clockwise = front
+  std::uint32_t material = 0;
+};
+
+struct SceneCamera {
+  glm::vec3 position{0.0f};
+  glm::vec3 forward{0.0f, 0.0f, -1.0f};  // unit; the view direction
+  glm::vec3 up{0.0f, 1.0f, 0.0f};        // unit, orthogonal to forward
+  float yfov = 0.6911f;                  // vertical field of view, radians
+  float aspect = 0.0f;                   // width/height from the file; 0 = not given
+  bool from_file = false;                // false: a default view made by the loader
+};
+
+struct Bounds {
+  glm::vec3 lo{std::numeric_limits<float>::max()};
+  glm::vec3 hi{-std::numeric_limits<float>::max()};
+  void grow(const glm::vec3& p) { lo = glm::min(lo, p); hi = glm::max(hi, p); }
+  glm::vec3 extent() const { return hi - lo; }
+  glm::vec3 centre() const { return 0.5f * (lo + hi); }
+};
+
+struct Scene {
+  std::string source;                    // file it came from
+  std::vector<SceneTriangle> triangles;
+  std::vector<SceneMaterial> materials;  // index 0 is the default material when the file has none
+  SceneCamera camera;
+  Bounds bounds;
+  std::vector<std::string> warnings;     // things the loader accepted but a user should know
+  std::size_t emissive_triangles() const;
+};
+
+}  // namespace bp

@@ -1,0 +1,96 @@
+// Modified Phong BRDF (DESIGN.md §6) with its sampling routines and pdfs.
+// Conventions: wo points from the vertex towards the eye side, wi towards the light side; both
+// unit and away from the surface; n is the normal on the side of wo. Every pdf here is in the
+// paper's uv measure (eq. 7): pdf_uv = 2 pi * pdf_solid_angle.
+#ifndef BP_SHARED_BRDF_H
+#define BP_SHARED_BRDF_H
+#include "shared/compat.h"
+#include "shared/frame.h"
+#include "shared/types.h"
+
+typedef struct {
+  float3 kd;
+  float3 ks;
+  float3 emission;
+  float shininess;
+  float p_diffuse;      // probability of sampling the diffuse lobe (by albedo)
+  float continuation;   // Russian-roulette continuation probability s (material only, DESIGN.md §3)
+  bp_u32 flags;
+} Bsdf;
+
+// The lobe choice and the continuation probability depend on the material alone, so the RB side
+// (which never sees PT's throughput) evaluates the same numbers (DESIGN.md §3, condition 1).
+BP_FN Bsdf bsdf_from_material(BP_GLOBAL const Material* m) {
+  Bsdf b;
+  b.kd = bp_load3(m->kd);
+  b.ks = bp_load3(m->ks);
+  b.emission = bp_load3(m->emission);
+  b.shininess = m->shininess;
+  b.flags = m->flags;
+  float albedo_d = bp_max3(b.kd), albedo_s = bp_max3(b.ks);
+  float albedo = albedo_d + albedo_s;
+  b.p_diffuse = albedo > 0.0f ? albedo_d / albedo : 1.0f;
+  b.continuation = clamp(bp_max3(b.kd + b.ks), 0.0f, 1.0f);
+  return b;
+}
+
+// f(wi, wo) in sr^-1: kd/pi + ks (n+2)/(2 pi) cos^n alpha, alpha between wi and the mirror of wo.
+BP_FN float3 bsdf_eval(const Bsdf* b, float3 n, float3 wi, float3 wo) {
+  if (dot(n, wi) <= 0.0f || dot(n, wo) <= 0.0f) return make_float3(0.0f, 0.0f, 0.0f);
+  float cos_alpha = fmax(dot(reflect_about(wo, n), wi), 0.0f);
+  float lobe = (b->shininess + 2.0f) * (0.5f * BP_INV_PI) * pow(cos_alpha, b->shininess);
+  return b->kd * BP_INV_PI + b->ks * lobe;
+}
+
+// Diffuse lobe, cosine-weighted: pdf_uv = 2 cos(theta)   (paper §5.2).
+BP_FN float pdf_uv_cosine(float cos_theta) { return cos_theta > 0.0f ? 2.0f * cos_theta : 0.0f; }
+
+// Phong lobe around the mirror direction: pdf_uv = (n+1) cos^n(alpha)   (DESIGN.md §2).
+BP_FN float pdf_uv_phong_lobe(float cos_alpha, float shininess) {
+  return cos_alpha > 0.0f ? (shininess + 1.0f) * pow(cos_alpha, shininess) : 0.0f;
+}
+
+// The PT density of wi given wo: the full lobe mixture, whichever lobe was sampled (DESIGN.md §2).
+BP_FN float bsdf_pdf_uv(const Bsdf* b, float3 n, float3 wi, float3 wo) {
+  float cos_theta = dot(n, wi);
+  if (cos_theta <= 0.0f) return 0.0f;
+  float cos_alpha = dot(reflect_about(wo, n), wi);
+  return b->p_diffuse * pdf_uv_cosine(cos_theta) +
+         (1.0f - b->p_diffuse) * pdf_uv_phong_lobe(cos_alpha, b->shininess);
+}
+
+// Cosine-weighted direction about +z of a local frame.
+BP_FN float3 sample_cosine_local(float u1, float u2) {
+  float r = sqrt(u1), phi = BP_TWO_PI * u2;
+  return make_float3(r * cos(phi), r * sin(phi), sqrt(fmax(0.0f, 1.0f - u1)));
+}
+
+// Direction with density (n+1)/(2 pi) cos^n(alpha) about +z. sin^2 alpha is computed as
+// -expm1(2 ln(u)/(n+1)) so lobes of shininess 1e6 keep their width in float.
+BP_FN float3 sample_phong_lobe_local(float u1, float u2, float shininess) {
+  float log_cos = log(fmax(1.0f - u1, 1e-30f)) / (shininess + 1.0f);  // cos alpha = (1-u1)^(1/(n+1))
+  float cos_alpha = exp(log_cos);
+  float sin_alpha = sqrt(fmax(0.0f, -expm1(2.0f * log_cos)));
+  float phi = BP_TWO_PI * u2;
+  return make_float3(sin_alpha * cos(phi), sin_alpha * sin(phi), cos_alpha);
+}
+
+typedef struct {
+  float3 wi;
+  float pdf_uv;   // mixture density of wi (0: the sample fell below the surface; end the path)
+} BsdfSample;
+
+BP_FN BsdfSample bsdf_sample(const Bsdf* b, float3 n, float3 wo, float u_lobe, float u1, float u2) {
+  BsdfSample s;
+  if (u_lobe < b->p_diffuse) {
+    Frame f = frame_from_normal(n);
+    s.wi = frame_to_world(&f, sample_cosine_local(u1, u2));
+  } else {
+    Frame f = frame_from_normal(reflect_about(wo, n));
+    s.wi = frame_to_world(&f, sample_phong_lobe_local(u1, u2, b->shininess));
+  }
+  s.pdf_uv = bsdf_pdf_uv(b, n, s.wi, wo);
+  return s;
+}
+
+#endif  // BP_SHARED_BRDF_H

@@ -1,0 +1,214 @@
+// BVH traversal, one source for the path-tracing kernel (OpenCL C) and the host tests and
+// benchmarks (C++). host/scene/bvh.cpp builds the tree (binned SAH, collapsed to 4-wide nodes);
+// host/scene/bvh_layout_check.cpp static_asserts the layout of the structs below.
+#ifndef BP_SHARED_BVH_H
+#define BP_SHARED_BVH_H
+#include "shared/compat.h"
+
+// A child reference is an inner node's index, or BVH_LEAF | first << 3 | (count - 1): a run of
+// `count` consecutive BvhTriangles. Node 0 is the root and always an inner node.
+#define BVH_LEAF 0x80000000u
+#define BVH_LEAF_COUNT_BITS 3u
+#define BVH_LEAF_COUNT_MASK 7u
+#define BVH_MAX_LEAF_TRIANGLES 8u
+#define BVH_NO_TRIANGLE 0xffffffffu
+// Each inner node on the path leaves at most 3 entries; the builder caps the depth at
+// (BVH_STACK_SIZE - 1) / 3 nodes.
+#define BVH_STACK_SIZE 64
+#define BVH_MAX_NODE_DEPTH 21
+
+// Four children's boxes, SoA so one fetch feeds one 4-wide slab test:
+// bounds[(2 * axis + side) * 4 + lane], side 0 = lo, 1 = hi. An unused lane has lo = +inf,
+// hi = -inf, so no ray enters it.
+typedef struct {
+  float bounds[24];
+  bp_u32 child[4];
+  bp_u32 pad[4];  // 128 bytes: two cache lines
+} BvhNode;
+
+// Triangle as the test wants it: p0, the edges from p0 and their cross product, in the original
+// vertex order of Scene::triangles[triangle], so the test's barycentrics are the scene's.
+typedef struct {
+  float v0[3];       // p0
+  bp_u32 triangle;   // index in Scene::triangles
+  float e1[3];       // p1 - p0
+  float pad0;
+  float e2[3];       // p2 - p0
+  float pad1;
+  float n[3];        // e1 x e2, not normalised
+  float pad2;
+} BvhTriangle;
+
+typedef struct {
+  float t;
+  float b1;          // barycentric of p1: p = (1 - b1 - b2) p0 + b1 p1 + b2 p2
+  float b2;
+  bp_u32 triangle;   // index in Scene::triangles
+} Hit;
+
+// What the slab test needs of a ray, computed once per query.
+typedef struct {
+  float org[3];
+  float inv[3];      // 1 / dir, finite: tiny components are clamped away from zero
+  int near[3];       // offset in BvhNode::bounds of the entry plane of each axis (lo if dir >= 0)
+} BvhRay;
+
+BP_FN BvhRay bvh_make_ray(float3 origin, float3 dir) {
+  BvhRay r;
+  float d[3] = {dir.x, dir.y, dir.z};
+  r.org[0] = origin.x; r.org[1] = origin.y; r.org[2] = origin.z;
+  for (int a = 0; a < 3; ++a) {
+    float da = fabs(d[a]) < 1e-20f ? (d[a] < 0.0f ? -1e-20f : 1e-20f) : d[a];
+    r.inv[a] = 1.0f / da;
+    r.near[a] = 8 * a + (da < 0.0f ? 4 : 0);
+  }
+  return r;
+}
+
+// Entry distance of the ray into each of the four children, +inf where it misses it or enters
+// beyond t_far. Exit distances grow by 2 gamma_3 (Ize 2013) so rounding never loses a hit.
+BP_FN bp_float4 bvh_node_entry(BP_GLOBAL const BvhNode* node, const BvhRay* r, float t_far) {
+  BP_GLOBAL const float* b = node->bounds;
+  bp_float4 ox = bp_splat4(r->org[0]), oy = bp_splat4(r->org[1]), oz = bp_splat4(r->org[2]);
+  bp_float4 ix = bp_splat4(r->inv[0]), iy = bp_splat4(r->inv[1]), iz = bp_splat4(r->inv[2]);
+  bp_float4 nx = (bp_load4(b + r->near[0]) - ox) * ix;
+  bp_float4 ny = (bp_load4(b + r->near[1]) - oy) * iy;
+  bp_float4 nz = (bp_load4(b + r->near[2]) - oz) * iz;
+  bp_float4 fx = (bp_load4(b + (r->near[0] ^ 4)) - ox) * ix;
+  bp_float4 fy = (bp_load4(b + (r->near[1] ^ 4)) - oy) * iy;
+  bp_float4 fz = (bp_load4(b + (r->near[2] ^ 4)) - oz) * iz;
+  bp_float4 entry = bp_max4(bp_max4(nx, ny), bp_max4(nz, bp_splat4(0.0f)));
+  bp_float4 t_exit = bp_min4(bp_min4(fx, fy), bp_min4(fz, bp_splat4(t_far))) * bp_splat4(1.0000004f);
+  return entry <= t_exit ? entry : bp_splat4(INFINITY);
+}
+
+// Ray-triangle test (Moller-Trumbore with the normal precomputed, as Embree's): with C = p0 - o,
+// R = C x d and det = d . n, the hit is t = C . n / det, b1 = R . e2 / det, b2 = -R . e1 / det.
+// On a hit with 0 < t < *t it overwrites *t, *b1, *b2 and returns 1.
+BP_FN int bvh_intersect_triangle(BP_GLOBAL const BvhTriangle* tri, float3 origin, float3 dir,
+                                 float* t, float* b1, float* b2) {
+  float3 c = bp_load3(tri->v0) - origin;
+  float3 n = bp_load3(tri->n);
+  float3 r = cross(c, dir);
+  float det = dot(dir, n);
+  float sign = det < 0.0f ? -1.0f : 1.0f;
+  float abs_det = det * sign;
+  float u = dot(r, bp_load3(tri->e2)) * sign;
+  float v = -dot(r, bp_load3(tri->e1)) * sign;
+  float tt = dot(c, n) * sign;
+  if (u >= 0.0f && v >= 0.0f && u + v <= abs_det && tt > 0.0f && tt < *t * abs_det) {
+    float inv_det = 1.0f / abs_det;
+    float t_hit = tt * inv_det;
+    if (t_hit < *t) {
+      *t = t_hit;
+      *b1 = u * inv_det;
+      *b2 = v * inv_det;
+      return 1;
+    }
+  }
+  return 0;
+}
+
+// Pushes the children with finite entry distance, nearest on top; returns how many.
+BP_FN int bvh_push_children(BP_GLOBAL const BvhNode* node, bp_float4 entry, bp_u32* stack_ref,
+                            float* stack_t, int sp) {
+  int base = sp;
+  float d0 = BP_LANE(entry, 0), d1 = BP_LANE(entry, 1);
+  float d2 = BP_LANE(entry, 2), d3 = BP_LANE(entry, 3);
+  if (d0 < INFINITY) { stack_ref[sp] = node->child[0]; stack_t[sp] = d0; ++sp; }
+  if (d1 < INFINITY) { stack_ref[sp] = node->child[1]; stack_t[sp] = d1; ++sp; }
+  if (d2 < INFINITY) { stack_ref[sp] = node->child[2]; stack_t[sp] = d2; ++sp; }
+  if (d3 < INFINITY) { stack_ref[sp] = node->child[3]; stack_t[sp] = d3; ++sp; }
+  // insertion sort, farthest at the bottom
+  for (int i = base + 1; i < sp; ++i) {
+    bp_u32 ref = stack_ref[i];
+    float d = stack_t[i];
+    int j = i - 1;
+    while (j >= base && stack_t[j] < d) {
+      stack_ref[j + 1] = stack_ref[j];
+      stack_t[j + 1] = stack_t[j];
+      --j;
+    }
+    stack_ref[j + 1] = ref;
+    stack_t[j + 1] = d;
+  }
+  return sp - base;
+}
+
+// Nearest hit with 0 < t < t_max; dir unit length. Returns 1 and fills *hit if there is one.
+BP_FN int bvh_closest_hit(BP_GLOBAL const BvhNode* nodes, BP_GLOBAL const BvhTriangle* tris,
+                          float3 origin, float3 dir, float t_max, Hit* hit) {
+  BvhRay ray = bvh_make_ray(origin, dir);
+  bp_u32 stack_ref[BVH_STACK_SIZE];
+  float stack_t[BVH_STACK_SIZE];
+  int sp = 0;
+  bp_u32 ref = 0u;
+  float t = t_max, b1 = 0.0f, b2 = 0.0f;
+  bp_u32 found = BVH_NO_TRIANGLE;
+  for (;;) {
+    if ((ref & BVH_LEAF) == 0u) {
+      BP_GLOBAL const BvhNode* node = nodes + ref;
+      bp_float4 entry = bvh_node_entry(node, &ray, t);
+      int pushed = bvh_push_children(node, entry, stack_ref, stack_t, sp);
+      if (pushed > 0) {
+        sp += pushed - 1;
+        ref = stack_ref[sp];
+        continue;
+      }
+    } else {
+      bp_u32 first = (ref & ~BVH_LEAF) >> BVH_LEAF_COUNT_BITS;
+      bp_u32 end = first + (ref & BVH_LEAF_COUNT_MASK) + 1u;
+      for (bp_u32 i = first; i < end; ++i)
+        if (bvh_intersect_triangle(tris + i, origin, dir, &t, &b1, &b2)) found = i;
+    }
+    // pop the nearest pending child the ray still reaches before t
+    int popped = 0;
+    while (sp > 0) {
+      --sp;
+      if (stack_t[sp] < t) {
+        ref = stack_ref[sp];
+        popped = 1;
+        break;
+      }
+    }
+    if (!popped) break;
+  }
+  if (found == BVH_NO_TRIANGLE) return 0;
+  hit->t = t;
+  hit->b1 = b1;
+  hit->b2 = b2;
+  hit->triangle = tris[found].triangle;
+  return 1;
+}
+
+// Whether anything lies along the ray with 0 < t < t_max; dir unit length. Stops at the first hit.
+BP_FN int bvh_occluded(BP_GLOBAL const BvhNode* nodes, BP_GLOBAL const BvhTriangle* tris,
+                       float3 origin, float3 dir, float t_max) {
+  BvhRay ray = bvh_make_ray(origin, dir);
+  bp_u32 stack_ref[BVH_STACK_SIZE];
+  float stack_t[BVH_STACK_SIZE];
+  int sp = 0;
+  bp_u32 ref = 0u;
+  for (;;) {
+    if ((ref & BVH_LEAF) == 0u) {
+      BP_GLOBAL const BvhNode* node = nodes + ref;
+      bp_float4 entry = bvh_node_entry(node, &ray, t_max);
+      int pushed = bvh_push_children(node, entry, stack_ref, stack_t, sp);
+      if (pushed > 0) {
+        sp += pushed - 1;
+        ref = stack_ref[sp];
+        continue;
+      }
+    } else {
+      bp_u32 first = (ref & ~BVH_LEAF) >> BVH_LEAF_COUNT_BITS;
+      bp_u32 end = first + (ref & BVH_LEAF_COUNT_MASK) + 1u;
+      float t = t_max, b1, b2;
+      for (bp_u32 i = first; i < end; ++i)
+        if (bvh_intersect_triangle(tris + i, origin, dir, &t, &b1, &b2)) return 1;
+    }
+    if (sp == 0) return 0;
+    ref = stack_ref[--sp];
+  }
+}
+
+#endif  // BP_SHARED_BVH_H

@@ -1,0 +1,68 @@
+// Structs shared by host and device, declared once. No float3 here (16 bytes in OpenCL C):
+// float arrays only, explicit padding; host/device/shared_types_check.cpp static_asserts the layout.
+#ifndef BP_SHARED_TYPES_H
+#define BP_SHARED_TYPES_H
+#include "shared/compat.h"
+
+#define BP_MATERIAL_DOUBLE_SIDED 1u
+
+// Modified Phong material (DESIGN.md §6): f = kd/pi + ks (n+2)/(2 pi) cos^n(alpha); Le one-sided.
+typedef struct {
+  float kd[3];
+  float shininess;
+  float ks[3];
+  bp_u32 flags;          // BP_MATERIAL_*
+  float emission[3];     // radiance Le, W sr^-1 m^-2
+  float pad0;
+} Material;
+
+// What shading needs of a triangle besides its geometry (the BVH owns the geometry).
+// Patches: the triangle is split into patch_subdiv^2 sub-triangles (patch.h); a double-sided
+// triangle owns twice as many, the back-side ones after the front-side ones.
+typedef struct {
+  float normal[3];       // geometric unit normal, front side (counter-clockwise winding)
+  bp_u32 material;
+  bp_u32 first_patch;
+  bp_u32 patch_subdiv;
+  float area;
+  float pad0;
+} TriangleShading;
+
+// Pinhole camera: a primary ray through pixel (px, py) with jitter (jx, jy) in [0,1)^2 is
+//   dir = normalize(forward + (2 (px+jx)/W - 1) tan_half_x right - (2 (py+jy)/H - 1) tan_half_y up)
+typedef struct {
+  float position[3];
+  float tan_half_fov_x;
+  float right[3];
+  float tan_half_fov_y;
+  float up[3];
+  bp_u32 width;
+  float forward[3];
+  bp_u32 height;
+} CameraParams;
+
+// Per-launch parameters of the path tracer.
+typedef struct {
+  bp_u32 seed;
+  bp_u32 first_sample;       // index of this launch's first sample in each pixel
+  bp_u32 samples_per_launch; // samples each work-item takes for its pixel
+  bp_u32 max_depth;          // safety cap on path length (Russian roulette ends paths long before)
+  float ray_epsilon;         // scene-scaled offset for secondary rays, metres
+  float weight_ratio;        // N2 / N1 of the combination (DESIGN.md §1); unused while w_PT = 1
+  bp_u32 weight_mode;        // BP_WEIGHTS_*
+  bp_u32 pad0;
+} PathTraceParams;
+
+#define BP_WEIGHTS_NONE 0u
+#define BP_WEIGHTS_PAPER 1u
+#define BP_WEIGHTS_PRODUCT 2u
+
+// Per-pixel counters the path tracer writes each launch (no atomics: one work-item per pixel).
+typedef struct {
+  float radiance[3];
+  bp_u32 rays;               // rays traced for this pixel in this launch
+  bp_u32 nonfinite_samples;  // samples dropped because they were NaN or Inf
+  bp_u32 pad0, pad1, pad2;
+} PixelAccum;
+
+#endif  // BP_SHARED_TYPES_H

@@ -1,0 +1,235 @@
+#!/usr/bin/env python3
+"""Writes scenes/cornell-box.gltf and scenes/cornell-glossy.gltf (python3 stdlib only).
+
+Geometry: the published Cornell Box data (/work/shared/data/cornell-box.md), mm -> m, y up.
+Every quad is checked to face the way it must: walls into the box, block faces out of the
+blocks, the light down. Materials use extras.phong (DESIGN.md section 6); the light has kd = 0
+(a pure emitter, so RB and PT do not disagree about light reflected by the lamp) and
+Le = emissiveFactor (1, 12/17, 4/17) x KHR_materials_emissive_strength 17 = (17, 12, 4).
+pbrMetallicRoughness mirrors the Phong values so other viewers show similar colours.
+
+Usage: python3 scripts/make_cornell_scenes.py [output folder, default: <repo>/scenes]
+"""
+import base64
+import json
+import math
+import os
+import struct
+import sys
+
+MM = 0.001
+LIGHT_Y = 548.7  # 0.1 mm below the ceiling, so the two never coincide
+
+class Away:
+    """A block face's front must face away from the block's centre."""
+    def __init__(self, centre):
+        self.centre = centre
+
+
+# (name, material, quad in the published order, the direction its front must face)
+SHORT_CENTRE = Away((186.0, 82.5, 168.5))
+TALL_CENTRE = Away((368.5, 165.0, 351.5))
+FACES = [
+    ("light", "light", [(343.0, LIGHT_Y, 227.0), (343.0, LIGHT_Y, 332.0), (213.0, LIGHT_Y, 332.0), (213.0, LIGHT_Y, 227.0)], (0, -1, 0)),
+    ("floor", "floor", [(552.8, 0.0, 0.0), (0.0, 0.0, 0.0), (0.0, 0.0, 559.2), (549.6, 0.0, 559.2)], (0, 1, 0)),
+    ("ceiling", "white", [(556.0, 548.8, 0.0), (556.0, 548.8, 559.2), (0.0, 548.8, 559.2), (0.0, 548.8, 0.0)], (0, -1, 0)),
+    ("back wall", "back", [(549.6, 0.0, 559.2), (0.0, 0.0, 559.2), (0.0, 548.8, 559.2), (556.0, 548.8, 559.2)], (0, 0, -1)),
+    ("right wall", "green", [(0.0, 0.0, 559.2), (0.0, 0.0, 0.0), (0.0, 548.8, 0.0), (0.0, 548.8, 559.2)], (1, 0, 0)),
+    ("left wall", "red", [(552.8, 0.0, 0.0), (549.6, 0.0, 559.2), (556.0, 548.8, 559.2), (556.0, 548.8, 0.0)], (-1, 0, 0)),
+    ("short block top", "block", [(130.0, 165.0, 65.0), (82.0, 165.0, 225.0), (240.0, 165.0, 272.0), (290.0, 165.0, 114.0)], (0, 1, 0)),
+    ("short block side", "block", [(290.0, 0.0, 114.0), (290.0, 165.0, 114.0), (240.0, 165.0, 272.0), (240.0, 0.0, 272.0)], SHORT_CENTRE),
+    ("short block side", "block", [(130.0, 0.0, 65.0), (130.0, 165.0, 65.0), (290.0, 165.0, 114.0), (290.0, 0.0, 114.0)], SHORT_CENTRE),
+    ("short block side", "block", [(82.0, 0.0, 225.0), (82.0, 165.0, 225.0), (130.0, 165.0, 65.0), (130.0, 0.0, 65.0)], SHORT_CENTRE),
+    ("short block side", "block", [(240.0, 0.0, 272.0), (240.0, 165.0, 272.0), (82.0, 165.0, 225.0), (82.0, 0.0, 225.0)], SHORT_CENTRE),
+    ("tall block top", "block", [(423.0, 330.0, 247.0), (265.0, 330.0, 296.0), (314.0, 330.0, 456.0), (472.0, 330.0, 406.0)], (0, 1, 0)),
+    ("tall block side", "block", [(423.0, 0.0, 247.0), (423.0, 330.0, 247.0), (472.0, 330.0, 406.0), (472.0, 0.0, 406.0)], TALL_CENTRE),
+    ("tall block side", "block", [(472.0, 0.0, 406.0), (472.0, 330.0, 406.0), (314.0, 330.0, 456.0), (314.0, 0.0, 456.0)], TALL_CENTRE),
+    ("tall block side", "block", [(314.0, 0.0, 456.0), (314.0, 330.0, 456.0), (265.0, 330.0, 296.0), (265.0, 0.0, 296.0)], TALL_CENTRE),
+    ("tall block side", "block", [(265.0, 0.0, 296.0), (265.0, 330.0, 296.0), (423.0, 330.0, 247.0), (423.0, 0.0, 247.0)], TALL_CENTRE),
+]
+
+WHITE = (0.725, 0.71, 0.68)
+RED = (0.63, 0.065, 0.05)
+GREEN = (0.14, 0.45, 0.091)
+
+
+def lambert(kd):
+    return {"kd": list(kd), "ks": [0.0, 0.0, 0.0], "shininess": 1.0}
+
+
+def phong(kd, ks, n):
+    return {"kd": list(kd), "ks": list(ks), "shininess": float(n)}
+
+
+LIGHT = {"phong": lambert((0.0, 0.0, 0.0)), "emission": (1.0, 12.0 / 17.0, 4.0 / 17.0), "strength": 17.0}
+
+# Material sets: name -> {"phong": ..., optional "emission"/"strength"}; a face's material key maps here.
+BOX_MATERIALS = {
+    "white": {"phong": lambert(WHITE)}, "red": {"phong": lambert(RED)},
+    "green": {"phong": lambert(GREEN)}, "light": LIGHT,
+}
+BOX_KEYS = {"floor": "white", "back": "white", "white": "white", "block": "white",
+            "red": "red", "green": "green", "light": "light"}
+
+# The paper's glossy figures on the public box: floor and back wall ks 0.85 n 50 with a faint
+# white-ish diffuse part (kd + ks <= 1 per channel); blocks kd 0.5 ks 0.5 n 10; egg kd 0.1 ks 0.8 n 10.
+GLOSSY_KD = tuple(round(0.15 * c / WHITE[0], 4) for c in WHITE)
+GLOSSY_MATERIALS = {
+    "glossy white": {"phong": phong(GLOSSY_KD, (0.85,) * 3, 50)},
+    "white": {"phong": lambert(WHITE)}, "red": {"phong": lambert(RED)},
+    "green": {"phong": lambert(GREEN)},
+    "block": {"phong": phong((0.5,) * 3, (0.5,) * 3, 10)},
+    "egg": {"phong": phong((0.1,) * 3, (0.8,) * 3, 10)},
+    "light": LIGHT,
+}
+GLOSSY_KEYS = {"floor": "glossy white", "back": "glossy white", "white": "white", "block": "block",
+               "red": "red", "green": "green", "light": "light"}
+
+# Egg: an ellipsoid standing on the floor in the open space in front of the short block, on the
+# red (image-left, +x) side.
+EGG_CENTRE = (0.42, 0.0, 0.12)
+EGG_RADIUS = 0.09
+EGG_STRETCH_Y = 1.3
+EGG_SEGMENTS, EGG_RINGS = 36, 22
+
+
+def sub(a, b): return tuple(x - y for x, y in zip(a, b))
+def dot(a, b): return sum(x * y for x, y in zip(a, b))
+def cross(a, b): return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+def normal(t): return cross(sub(t[1], t[0]), sub(t[2], t[0]))
+def centroid(pts): return tuple(sum(c) / len(pts) for c in zip(*pts))
+
+
+def quad_triangles(name, quad, facing):
+    """Two triangles (0,1,2), (0,2,3) of a quad, after asserting its front faces `facing`."""
+    tris = [(quad[0], quad[1], quad[2]), (quad[0], quad[2], quad[3])]
+    for t in tris:
+        want = sub(centroid(t), facing.centre) if isinstance(facing, Away) else facing
+        assert dot(normal(t), want) > 0, f"{name}: winding faces the wrong way"
+    return [tuple(tuple(c * MM for c in p) for p in t) for t in tris]
+
+
+def egg_triangles():
+    cx, cy, cz = EGG_CENTRE
+    ry = EGG_RADIUS * EGG_STRETCH_Y
+    cy += ry + 0.0005  # rests on the floor with a hair of clearance
+
+    def vertex(ring, seg):
+        theta = math.pi * ring / EGG_RINGS  # from the top pole
+        phi = 2.0 * math.pi * seg / EGG_SEGMENTS
+        return (cx + EGG_RADIUS * math.sin(theta) * math.cos(phi), cy + ry * math.cos(theta),
+                cz + EGG_RADIUS * math.sin(theta) * math.sin(phi))
+
+    tris = []
+    for ring in range(EGG_RINGS):
+        for seg in range(EGG_SEGMENTS):
+            a, b = vertex(ring, seg), vertex(ring, seg + 1)
+            c, d = vertex(ring + 1, seg), vertex(ring + 1, seg + 1)
+            if ring > 0:
+                tris.append((a, b, c))
+            if ring < EGG_RINGS - 1:
+                tris.append((b, d, c))
+    centre = (cx, cy, cz)
+    for t in tris:
+        assert dot(normal(t), sub(centroid(t), centre)) > 0, "egg triangle faces inwards"
+    # Clear of the blocks (their footprints are convex quads in x-z) and the walls.
+    for block in (FACES[7:11], FACES[12:16]):
+        for _, _, quad, facing in block:
+            n = normal((quad[0], quad[1], quad[2]))
+            n = (n[0], 0.0, n[2])
+            length = math.sqrt(dot(n, n))
+            # signed distance of the egg centre from the side's plane, outward positive
+            dist = dot(sub((cx / MM, 0.0, cz / MM), quad[0]), n) / length * MM
+            if dist > EGG_RADIUS + 0.01:
+                break
+        else:
+            raise AssertionError("egg intersects a block")
+    assert EGG_RADIUS + 0.01 < cx < 0.549 - EGG_RADIUS - 0.01 and cz > EGG_RADIUS + 0.01
+    return tris
+
+
+def gltf(materials, keys, extra_meshes):
+    """One mesh (and node) per material; indexed, unsigned-short indices, one embedded buffer."""
+    groups = {name: [] for name in materials}
+    for name, key, quad, facing in FACES:
+        groups[keys[key]] += quad_triangles(name, quad, facing)
+    for key, tris in extra_meshes.items():
+        groups[key] += tris
+    blob = bytearray()
+    doc = {
+        "asset": {"version": "2.0", "generator": "bundlepath scripts/make_cornell_scenes.py"},
+        "extensionsUsed": ["KHR_materials_emissive_strength"],
+        "scene": 0, "scenes": [{"nodes": []}], "nodes": [], "meshes": [], "materials": [],
+        "accessors": [], "bufferViews": [], "buffers": [],
+        "cameras": [{"type": "perspective", "name": "Cornell camera (35 mm lens, 25 mm film)",
+                     "perspective": {"yfov": 2.0 * math.atan(12.5 / 35.0), "aspectRatio": 1.0, "znear": 0.01}}],
+    }
+    for name, m in materials.items():
+        ph = m["phong"]
+        roughness = math.sqrt(math.sqrt(2.0 / (ph["shininess"] + 2.0)))  # inverse of n = 2/a^2 - 2, a = r^2
+        mat = {"name": name, "extras": {"phong": ph},
+               "pbrMetallicRoughness": {"baseColorFactor": ph["kd"] + [1.0], "metallicFactor": 0.0,
+                                        "roughnessFactor": round(roughness, 4)}}
+        if "emission" in m:
+            mat["emissiveFactor"] = list(m["emission"])
+            mat["extensions"] = {"KHR_materials_emissive_strength": {"emissiveStrength": m["strength"]}}
+        doc["materials"].append(mat)
+    for mi, (name, tris) in enumerate(groups.items()):
+        if not tris:
+            continue
+        verts, index_of, indices = [], {}, []
+        for t in tris:
+            for p in t:
+                p = tuple(round(c, 7) for c in p)
+                if p not in index_of:
+                    index_of[p] = len(verts)
+                    verts.append(p)
+                indices.append(index_of[p])
+        assert len(verts) < 65536
+        pos_offset = len(blob)
+        for p in verts:
+            blob += struct.pack("<3f", *p)
+        idx_offset = len(blob)
+        blob += struct.pack(f"<{len(indices)}H", *indices)
+        blob += b"\0" * (-len(blob) % 4)
+        views, accs = doc["bufferViews"], doc["accessors"]
+        views.append({"buffer": 0, "byteOffset": pos_offset, "byteLength": idx_offset - pos_offset, "target": 34962})
+        views.append({"buffer": 0, "byteOffset": idx_offset, "byteLength": 2 * len(indices), "target": 34963})
+        accs.append({"bufferView": len(views) - 2, "componentType": 5126, "count": len(verts), "type": "VEC3",
+                     "min": [min(v[i] for v in verts) for i in range(3)],
+                     "max": [max(v[i] for v in verts) for i in range(3)]})
+        accs.append({"bufferView": len(views) - 1, "componentType": 5123, "count": len(indices), "type": "SCALAR"})
+        doc["meshes"].append({"name": name, "primitives": [
+            {"attributes": {"POSITION": len(accs) - 2}, "indices": len(accs) - 1, "material": mi}]})
+        doc["nodes"].append({"name": name, "mesh": len(doc["meshes"]) - 1})
+    # glTF cameras look down -z: half a turn about y makes this one look along +z, up +y, so
+    # the red wall (+x) is on the image's left.
+    doc["nodes"].append({"name": "camera", "camera": 0, "translation": [0.278, 0.273, -0.8],
+                         "rotation": [0.0, 1.0, 0.0, 0.0]})
+    doc["scenes"][0]["nodes"] = list(range(len(doc["nodes"])))
+    doc["buffers"].append({"byteLength": len(blob),
+                           "uri": "data:application/octet-stream;base64," + base64.b64encode(bytes(blob)).decode()})
+    return doc
+
+
+def write(doc, path):
+    with open(path, "w", encoding="utf-8") as f:
+        json.dump(doc, f, indent=1)
+        f.write("\n")
+    size = os.path.getsize(path)
+    assert size < 300_000, f"{path} is {size} bytes"
+    print(f"wrote {path} ({size} bytes)")
+
+
+def main():
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    out = sys.argv[1] if len(sys.argv) > 1 else os.path.join(root, "scenes")
+    os.makedirs(out, exist_ok=True)
+    for m in list(BOX_MATERIALS.values()) + list(GLOSSY_MATERIALS.values()):
+        assert all(d + s <= 1.0 for d, s in zip(m["phong"]["kd"], m["phong"]["ks"])), m
+    write(gltf(BOX_MATERIALS, BOX_KEYS, {}), os.path.join(out, "cornell-box.gltf"))
+    write(gltf(GLOSSY_MATERIALS, GLOSSY_KEYS, {"egg": egg_triangles()}), os.path.join(out, "cornell-glossy.gltf"))
+
+
+if __name__ == "__main__":
+    main()

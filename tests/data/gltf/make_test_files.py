@@ -1,0 +1,253 @@
+#!/usr/bin/env python3
+"""Writes the small glTF files under tests/data/gltf/{good,bad}/ (python3 stdlib only).
+
+Each bad file breaks exactly one thing of an otherwise valid one-triangle file, so the test that
+loads it can assert which object the error message names. Run from anywhere; it writes beside itself.
+"""
+import base64
+import copy
+import json
+import math
+import os
+import struct
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+OVERFLOW = 1.2345e300  # written as 1e400, which parses to infinity
+TRIANGLE = [(0.0, 0.0, 0.0), (1.0, 0.0, 0.0), (0.0, 1.0, 0.0)]
+
+
+def pack_triangles(positions, indices):
+    """Float VEC3 positions then unsigned-short indices (padded to 4 bytes)."""
+    blob = bytearray()
+    for p in positions:
+        blob += struct.pack("<3f", *p)
+    pos_len = len(blob)
+    blob += struct.pack(f"<{len(indices)}H", *indices)
+    idx_len = len(blob) - pos_len
+    blob += b"\0" * (-len(blob) % 4)
+    return blob, pos_len, idx_len
+
+
+def base(positions=TRIANGLE, indices=(0, 1, 2)):
+    """A valid file: one indexed triangle, one material, one node, one scene."""
+    blob, pos_len, idx_len = pack_triangles(positions, list(indices))
+    doc = {
+        "asset": {"version": "2.0"},
+        "scene": 0,
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "material": 0}]}],
+        "materials": [{"name": "grey", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1], "metallicFactor": 0}}],
+        "accessors": [
+            {"bufferView": 0, "componentType": 5126, "count": len(positions), "type": "VEC3"},
+            {"bufferView": 1, "componentType": 5123, "count": len(indices), "type": "SCALAR"},
+        ],
+        "bufferViews": [
+            {"buffer": 0, "byteOffset": 0, "byteLength": pos_len},
+            {"buffer": 0, "byteOffset": pos_len, "byteLength": idx_len},
+        ],
+        "buffers": [{"byteLength": len(blob)}],
+    }
+    return doc, blob
+
+
+def embed(doc, blob):
+    doc["buffers"][0]["uri"] = "data:application/octet-stream;base64," + base64.b64encode(bytes(blob)).decode()
+    return doc
+
+
+def write_json(rel, doc):
+    path = os.path.join(HERE, rel)
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    text = json.dumps(doc, indent=1).replace(str(OVERFLOW), "1e400")  # JSON has no inf literal
+    with open(path, "w", encoding="utf-8") as f:
+        f.write(text + "\n")
+
+
+def write_bytes(rel, data):
+    path = os.path.join(HERE, rel)
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    with open(path, "wb") as f:
+        f.write(data)
+
+
+def glb(doc, blob, version=2):
+    text = json.dumps(doc).encode()
+    text += b" " * (-len(text) % 4)
+    blob = bytes(blob) + b"\0" * (-len(blob) % 4)
+    body = struct.pack("<II", len(text), 0x4E4F534A) + text + struct.pack("<II", len(blob), 0x004E4942) + blob
+    return struct.pack("<4sII", b"glTF", version, 12 + len(body)) + body
+
+
+def bad(name, mutate, blob_mutate=None):
+    doc, blob = base()
+    mutate(doc)
+    if blob_mutate:
+        blob_mutate(blob)
+    write_json(f"bad/{name}.gltf", embed(doc, blob))
+
+
+def quad_mesh_file():
+    """Two triangles of a unit quad in z = 0, counter-clockwise seen from +z."""
+    return base([(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0)], (0, 1, 2, 0, 2, 3))
+
+
+def good_files():
+    # External .bin beside the .gltf.
+    doc, blob = base()
+    doc["buffers"][0]["uri"] = "external-bin.bin"
+    write_json("good/external-bin.gltf", doc)
+    write_bytes("good/external-bin.bin", bytes(blob))
+
+    # Binary glTF.
+    doc, blob = base()
+    write_bytes("good/triangle.glb", glb(doc, blob))
+
+    # Materials: one primitive per material, all sharing the triangle's accessors.
+    doc, blob = base()
+    doc["materials"] = [
+        {"name": "phong", "extras": {"phong": {"kd": [0.2, 0.3, 0.4], "ks": [0.5, 0.5, 0.5], "shininess": 20}},
+         "pbrMetallicRoughness": {"baseColorFactor": [1, 0, 0, 1]}},
+        {"name": "pbr default"},
+        {"name": "pbr", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.25, 1.0, 1], "metallicFactor": 0.5,
+                                                 "roughnessFactor": 0.5},
+         "extensions": {"KHR_materials_specular": {"specularFactor": 0.5}}},
+        {"name": "too bright", "extras": {"phong": {"kd": [0.8, 0.2, 0.2], "ks": [0.8, 0.2, 0.2], "shininess": 5}}},
+        {"name": "lamp", "emissiveFactor": [1.0, 0.5, 0.25], "doubleSided": True,
+         "pbrMetallicRoughness": {"metallicFactor": 0, "roughnessFactor": 0},
+         "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 4.0}}},
+    ]
+    doc["extensionsUsed"] = ["KHR_materials_specular", "KHR_materials_emissive_strength"]
+    prim = doc["meshes"][0]["primitives"][0]
+    doc["meshes"][0]["primitives"] = [dict(prim, material=i) for i in range(5)] + [
+        {"attributes": {"POSITION": 0}, "indices": 1}]
+    write_json("good/materials.gltf", embed(doc, blob))
+
+    # Hierarchy: translated parent, scaled child, a mirrored instance of the same mesh, a camera.
+    doc, blob = quad_mesh_file()
+    doc["nodes"] = [
+        {"translation": [10, 0, 0], "children": [1, 2]},
+        {"scale": [2, 2, 2], "mesh": 0},
+        {"matrix": [-1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, -5, 0, 0, 1], "mesh": 0},
+        {"translation": [0, 0, 5], "rotation": [0, math.sin(math.pi / 4), 0, math.cos(math.pi / 4)], "camera": 0},
+    ]
+    doc["scenes"] = [{"nodes": [0, 3]}]
+    doc["cameras"] = [{"type": "perspective", "perspective": {"yfov": 0.5, "znear": 0.1}}]
+    write_json("good/hierarchy.gltf", embed(doc, blob))
+
+    # No scenes: every root node is drawn (node 1 is a child of node 0, node 2 a root).
+    doc, blob = base()
+    del doc["scene"], doc["scenes"]
+    doc["nodes"] = [{"children": [1]}, {"mesh": 0, "translation": [0, 0, 1]}, {"mesh": 0, "translation": [0, 0, 2]}]
+    write_json("good/no-scenes.gltf", embed(doc, blob))
+
+    # Only an orthographic camera: ignored, default view.
+    doc, blob = base()
+    doc["nodes"].append({"camera": 0, "translation": [0, 0, 3]})
+    doc["scenes"][0]["nodes"] = [0, 1]
+    doc["cameras"] = [{"type": "orthographic", "orthographic": {"xmag": 1, "ymag": 1, "zfar": 10, "znear": 0.1}}]
+    write_json("good/ortho-camera.gltf", embed(doc, blob))
+
+    # One good and one zero-area triangle.
+    doc, blob = base([(0, 0, 0), (1, 0, 0), (0, 1, 0), (2, 0, 0)], (0, 1, 2, 0, 1, 3))
+    write_json("good/degenerate.gltf", embed(doc, blob))
+
+    # Sparse accessor without a buffer view: positions start as zeros; the sparse part sets all three.
+    doc, blob = base()
+    sparse_idx = len(blob)
+    blob += struct.pack("<3I", 0, 1, 2)
+    sparse_val = len(blob)
+    for p in [(0, 0, 1), (2, 0, 1), (0, 3, 1)]:
+        blob += struct.pack("<3f", *p)
+    doc["bufferViews"] += [{"buffer": 0, "byteOffset": sparse_idx, "byteLength": 12},
+                           {"buffer": 0, "byteOffset": sparse_val, "byteLength": 36}]
+    doc["buffers"][0]["byteLength"] = len(blob)
+    doc["accessors"][0] = {"componentType": 5126, "count": 3, "type": "VEC3", "sparse": {
+        "count": 3, "indices": {"bufferView": 2, "componentType": 5125}, "values": {"bufferView": 3}}}
+    write_json("good/sparse-no-view.gltf", embed(doc, blob))
+
+    # Interleaved positions in a strided view (stride 24: position + 12 bytes of something else).
+    doc, _ = base()
+    blob = bytearray()
+    for p in TRIANGLE:
+        blob += struct.pack("<3f", *p) + struct.pack("<3f", 9, 9, 9)
+    idx = len(blob)
+    blob += struct.pack("<3H", 0, 1, 2) + b"\0\0"
+    doc["bufferViews"] = [{"buffer": 0, "byteOffset": 0, "byteLength": 72, "byteStride": 24},
+                          {"buffer": 0, "byteOffset": idx, "byteLength": 6}]
+    doc["accessors"].append({"bufferView": 0, "byteOffset": 12, "componentType": 5126, "count": 3, "type": "VEC3"})
+    doc["buffers"][0]["byteLength"] = len(blob)
+    write_json("good/strided.gltf", embed(doc, blob))
+
+
+def bad_files():
+    write_bytes("bad/not-gltf.gltf", b"this is not a glTF file\n")
+    write_bytes("bad/syntax-error.gltf", b'{"asset": {"version": "2.0"}, "nodes": [}\n')
+    doc, blob = base()
+    write_bytes("bad/glb-version.glb", glb(doc, blob, version=1))
+    write_bytes("bad/glb-truncated.glb", glb(doc, blob)[:40])
+
+    def set_(path, value):
+        def mutate(doc):
+            obj = doc
+            for key in path[:-1]:
+                obj = obj[key]
+            obj[path[-1]] = value
+        return mutate
+
+    bad("accessor-index", set_(["meshes", 0, "primitives", 0, "attributes", "POSITION"], 5))
+    bad("indices-accessor-index", set_(["meshes", 0, "primitives", 0, "indices"], 7))
+    bad("buffer-view-index", set_(["accessors", 0, "bufferView"], 4))
+    bad("buffer-index", set_(["bufferViews", 0, "buffer"], 3))
+    bad("accessor-past-view", set_(["accessors", 0, "byteOffset"], 4))
+    bad("view-past-buffer", set_(["bufferViews", 1, "byteLength"], 64))
+    bad("small-stride", set_(["bufferViews", 0, "byteStride"], 8))
+    bad("index-value", lambda d: None, lambda b: b.__setitem__(slice(36, 38), struct.pack("<H", 3)))
+    bad("material-index", set_(["meshes", 0, "primitives", 0, "material"], 2))
+    bad("mesh-index", set_(["nodes", 0, "mesh"], 1))
+    bad("camera-index", set_(["nodes", 0, "camera"], 0))
+    bad("child-index", set_(["nodes", 0, "children"], [9]))
+    bad("scene-node-index", set_(["scenes", 0, "nodes"], [0, 4]))
+    bad("default-scene", set_(["scene"], 2))
+
+    def cycle(doc):
+        doc["nodes"] = [{"mesh": 0, "children": [1]}, {"children": [2]}, {"children": [1]}]
+    bad("node-cycle", cycle)
+    bad("nan-position", lambda d: None, lambda b: b.__setitem__(slice(12, 16), struct.pack("<f", float("nan"))))
+    bad("infinite-matrix", set_(["nodes", 0, "matrix"], [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, OVERFLOW, 0, 0, 1]))
+    bad("normalized-positions", lambda d: d["accessors"][0].update(componentType=5123, normalized=True))
+    bad("mode", set_(["meshes", 0, "primitives", 0, "mode"], 9))
+    bad("points-only", set_(["meshes", 0, "primitives", 0, "mode"], 0))
+
+    def sparse(indices, values=((5, 5, 5), (6, 6, 6))):
+        def mutate_blob(blob):
+            blob += struct.pack("<2I", *indices)
+            for v in values:
+                blob += struct.pack("<3f", *v)
+
+        def mutate(doc):
+            n = len(base()[1])
+            doc["bufferViews"] += [{"buffer": 0, "byteOffset": n, "byteLength": 8},
+                                   {"buffer": 0, "byteOffset": n + 8, "byteLength": 24}]
+            doc["buffers"][0]["byteLength"] = n + 32
+            doc["accessors"][0]["sparse"] = {"count": 2, "indices": {"bufferView": 2, "componentType": 5125},
+                                             "values": {"bufferView": 3}}
+        return mutate, mutate_blob
+
+    bad("sparse-index-range", *sparse((1, 3)))
+    bad("sparse-not-increasing", *sparse((2, 1)))
+
+    for name, uri in [("uri-parent", "../outside.bin"), ("uri-absolute", "/etc/passwd"),
+                      ("uri-encoded-parent", "sub/%2e%2e/%2E%2E/outside.bin")]:
+        doc, blob = base()
+        doc["buffers"][0]["uri"] = uri
+        write_json(f"bad/{name}.gltf", doc)
+    doc, blob = base()
+    doc["buffers"][0]["uri"] = "missing.bin"
+    write_json("bad/missing-bin.gltf", doc)
+
+
+if __name__ == "__main__":
+    good_files()
+    bad_files()
+    print("wrote", HERE)
