@@ -71,6 +71,41 @@ inline ChiSquareResult chi_square_test(const std::vector<double>& observed, cons
 // Level of each of `tests` tests so that the family-wise level is alpha.
 inline double sidak_alpha(double alpha, int tests) { return 1.0 - std::pow(1.0 - alpha, 1.0 / tests); }
 
+// Regularized incomplete beta I_x(a, b) (continued fraction, Numerical Recipes' betacf).
+inline double incomplete_beta(double a, double b, double x) {
+  if (x <= 0.0) return 0.0;
+  if (x >= 1.0) return 1.0;
+  auto cf = [](double a, double b, double x) {
+    double qab = a + b, qap = a + 1.0, qam = a - 1.0, c = 1.0, d = 1.0 - qab * x / qap;
+    if (std::fabs(d) < 1e-300) d = 1e-300;
+    d = 1.0 / d;
+    double h = d;
+    for (int m = 1; m < 10000; ++m) {
+      int m2 = 2 * m;
+      double aa = m * (b - m) * x / ((qam + m2) * (a + m2));
+      d = 1.0 + aa * d; if (std::fabs(d) < 1e-300) d = 1e-300;
+      c = 1.0 + aa / c; if (std::fabs(c) < 1e-300) c = 1e-300;
+      d = 1.0 / d; h *= d * c;
+      aa = -(a + m) * (qab + m) * x / ((a + m2) * (qap + m2));
+      d = 1.0 + aa * d; if (std::fabs(d) < 1e-300) d = 1e-300;
+      c = 1.0 + aa / c; if (std::fabs(c) < 1e-300) c = 1e-300;
+      d = 1.0 / d;
+      double del = d * c;
+      h *= del;
+      if (std::fabs(del - 1.0) < 1e-15) break;
+    }
+    return h;
+  };
+  double front = std::exp(std::lgamma(a + b) - std::lgamma(a) - std::lgamma(b) + a * std::log(x) + b * std::log1p(-x));
+  if (x < (a + 1.0) / (a + b + 2.0)) return front * cf(a, b, x) / a;
+  return 1.0 - front * cf(b, a, 1.0 - x) / b;
+}
+
+// Two-sided tail probability of Student's t with `dof` degrees of freedom.
+inline double student_t_two_sided_p(double t, double dof) {
+  return incomplete_beta(0.5 * dof, 0.5, dof / (dof + t * t));
+}
+
 // Two-sided z quantile for a tail probability p (bisection on erfc; tests only).
 inline double z_for_two_sided(double p) {
   double lo = 0.0, hi = 40.0;

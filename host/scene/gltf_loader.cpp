@@ -143,7 +143,7 @@ class Loader {
     bool ok = false;
     const bool glb = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
     if (glb) {
-      precheck_json(glb_json_chunk(bytes));
+      precheck_json(glb_json_chunk(bytes), base_dir);
       ok = reader.LoadBinaryFromMemory(&model_, &err, &warn, bytes.data(),
                                        unsigned(bytes.size()), base_dir);
     } else {
@@ -151,11 +151,15 @@ class Loader {
       while (first < bytes.size() && std::isspace(bytes[first])) ++first;
       if (first == bytes.size() || bytes[first] != '{')
         fail("is not glTF (neither a JSON object nor a binary .glb)");
-      precheck_json(std::string(bytes.begin(), bytes.end()));
+      precheck_json(std::string(bytes.begin(), bytes.end()), base_dir);
       ok = reader.LoadASCIIFromString(&model_, &err, &warn, reinterpret_cast<const char*>(bytes.data()),
                                       unsigned(bytes.size()), base_dir);
     }
-    if (!ok) fail("glTF parse failed: " + (err.empty() ? std::string("unknown error") : err));
+    if (!ok) {
+      std::string reason = err.empty() ? std::string("unknown error") : one_line(err);
+      if (reason.size() > 300) reason = reason.substr(0, 300) + "...";  // tinygltf may quote a whole data: URI
+      fail("glTF parse failed: " + reason);
+    }
     std::istringstream lines(warn);
     for (std::string line; std::getline(lines, line);)
       if (!one_line(line).empty()) scene_.warnings.push_back("glTF: " + one_line(line));
@@ -181,13 +185,13 @@ class Loader {
   }
 
   // Checks on the raw JSON that must happen before tinygltf reads it: a readable syntax error,
-  // buffer URIs that stay in the asset's folder, and the indices tinygltf itself dereferences.
-  void precheck_json(const std::string& text) const {
+  // buffer URIs that stay in the asset's folder and exist, and the indices tinygltf itself dereferences.
+  void precheck_json(const std::string& text, const std::string& base_dir) const {
     nlohmann::json j;
     try {
       j = nlohmann::json::parse(text);
-    } catch (const nlohmann::json::parse_error& e) {
-      fail(std::string("JSON syntax error: ") + e.what());
+    } catch (const nlohmann::json::exception& e) {  // syntax errors, numbers out of range
+      fail(std::string("invalid JSON: ") + e.what());
     }
     if (!j.is_object()) fail("is not glTF (the JSON top level is not an object)");
     auto array = [&](const char* key) -> const nlohmann::json& {
@@ -207,6 +211,9 @@ class Loader {
       if (!uri_stays_inside(uri))
         fail("buffer " + std::to_string(i) + " uri \"" + uri +
              "\" leaves the asset's folder (only relative paths inside it are allowed)");
+      std::error_code ec;
+      if (!std::filesystem::is_regular_file(std::filesystem::path(base_dir) / percent_decode(uri), ec))
+        fail("buffer " + std::to_string(i) + " uri \"" + uri + "\" names no file in " + base_dir);
     }
     const auto& accessors = array("accessors");
     const auto& views = array("bufferViews");

@@ -15,8 +15,9 @@ struct PatchLayout {
 };
 
 // Default target patch size: kDefaultPatchFraction of the scene's bounding-box diagonal. 1/20 gives
-// the Cornell box (diagonal 0.96 m, target 4.8 cm) 3518 patches: a wall quad's diagonal is split
-// in k = 17, the light in k = 4, so RB sees smooth shading without a six-figure patch count.
+// the Cornell box (diagonal 0.96 m, target 4.8 cm) 3734 patches (a wall triangle, longest edge the
+// quad's 0.78 m diagonal, gets k = 17; the light k = 4): a few thousand, so an RB iteration stays
+// cheap and the patch count scales with the scene's shape, not its units. --patch-size overrides.
 inline constexpr float kDefaultPatchFraction = 1.0f / 20.0f;
 float default_patch_size(const Scene& scene);
 

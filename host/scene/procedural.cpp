@@ -110,7 +110,7 @@ Scene make_random_triangles_scene(std::size_t n, std::uint32_t seed) {
   scene.materials = {diffuse, light};
 
   Random rng(seed);
-  float size = std::min(0.5f, 4.0f / std::sqrt(static_cast<float>(std::max<std::size_t>(n, 1))));
+  float size = std::min(0.5f, 9.0f / std::sqrt(static_cast<float>(std::max<std::size_t>(n, 1))));
   scene.triangles.reserve(n);
   for (std::size_t i = 0; i < n; ++i) {
     glm::vec3 c(rng.uniform(), rng.uniform(), rng.uniform());

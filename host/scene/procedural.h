@@ -7,7 +7,7 @@
 
 namespace bp {
 
-// n triangles scattered in the unit cube [0,1]^3, random orientation, edges ~ 4/sqrt(n) so a ray
+// n triangles scattered in the unit cube [0,1]^3, random orientation, edges ~ 6/sqrt(n) so a ray
 // across the cube crosses a few of them; about 1 in 64 is emissive. Camera outside, facing -z.
 Scene make_random_triangles_scene(std::size_t n, std::uint32_t seed);
 

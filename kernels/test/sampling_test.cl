@@ -19,3 +19,8 @@ __kernel void sample_bsdf(__global const Material* material, const float wo_x, c
   out[4 * i + 2] = s.wi.z;
   out[4 * i + 3] = s.pdf_uv;
 }
+
+#ifdef BP_TEST_BUILD_ERROR
+// Lets the tests check that a failed build reports this file and line.
+this_line_does_not_compile
+#endif

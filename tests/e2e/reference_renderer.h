@@ -23,7 +23,9 @@ struct ReferenceOptions {
 
 struct ReferenceResult {
   ImageRGB mean;           // per-pixel radiance estimate (mean of spp path samples)
-  ImageRGB std_error;      // per-pixel standard error of that mean: sample std-dev / sqrt(spp)
+  // Per-pixel standard error of that mean: sample std-dev / sqrt(spp). Path sums are skewed, so at
+  // a few hundred spp it underestimates in some pixels; z-test blocks of pixels, or use >= ~2k spp.
+  ImageRGB std_error;
   double seconds = 0.0;    // wall-clock render time
   std::uint64_t paths = 0; // width * height * spp
   std::uint64_t rays = 0;  // every ray traced, shadow rays included

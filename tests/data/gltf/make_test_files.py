@@ -109,12 +109,12 @@ def good_files():
         {"name": "phong", "extras": {"phong": {"kd": [0.2, 0.3, 0.4], "ks": [0.5, 0.5, 0.5], "shininess": 20}},
          "pbrMetallicRoughness": {"baseColorFactor": [1, 0, 0, 1]}},
         {"name": "pbr default"},
-        {"name": "pbr", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.25, 1.0, 1], "metallicFactor": 0.5,
+        {"name": "pbr", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.25, 0.9, 1], "metallicFactor": 0.5,
                                                  "roughnessFactor": 0.5},
          "extensions": {"KHR_materials_specular": {"specularFactor": 0.5}}},
         {"name": "too bright", "extras": {"phong": {"kd": [0.8, 0.2, 0.2], "ks": [0.8, 0.2, 0.2], "shininess": 5}}},
         {"name": "lamp", "emissiveFactor": [1.0, 0.5, 0.25], "doubleSided": True,
-         "pbrMetallicRoughness": {"metallicFactor": 0, "roughnessFactor": 0},
+         "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1], "metallicFactor": 0, "roughnessFactor": 0},
          "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 4.0}}},
     ]
     doc["extensionsUsed"] = ["KHR_materials_specular", "KHR_materials_emissive_strength"]
@@ -214,7 +214,11 @@ def bad_files():
         doc["nodes"] = [{"mesh": 0, "children": [1]}, {"children": [2]}, {"children": [1]}]
     bad("node-cycle", cycle)
     bad("nan-position", lambda d: None, lambda b: b.__setitem__(slice(12, 16), struct.pack("<f", float("nan"))))
-    bad("infinite-matrix", set_(["nodes", 0, "matrix"], [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, OVERFLOW, 0, 0, 1]))
+    bad("overflow-number", set_(["nodes", 0, "matrix"], [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, OVERFLOW, 0, 0, 1]))
+
+    def overflow_transform(doc):  # each scale is finite; their product is not
+        doc["nodes"] = [{"scale": [1e300, 1, 1], "children": [1]}, {"scale": [1e300, 1, 1], "mesh": 0}]
+    bad("infinite-transform", overflow_transform)
     bad("normalized-positions", lambda d: d["accessors"][0].update(componentType=5123, normalized=True))
     bad("mode", set_(["meshes", 0, "primitives", 0, "mode"], 9))
     bad("points-only", set_(["meshes", 0, "primitives", 0, "mode"], 0))

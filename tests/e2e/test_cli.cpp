@@ -1,0 +1,135 @@
+// The command line as a user meets it: help, exit codes, messages, output files.
+#include "e2e/cli_runner.h"
+#include "image/image.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <filesystem>
+#include <fstream>
+
+namespace bp::test {
+namespace {
+
+namespace fs = std::filesystem;
+const std::string kScenes = std::string(BP_SOURCE_DIR) + "/scenes/";
+
+TEST(Cli, HelpDocumentsEveryRenderOption) {
+  CliResult r = run_cli("render --help");
+  EXPECT_EQ(r.exit_code, 0);
+  for (const char* opt : {"--out", "--width", "--height", "--spp", "--time", "--seed", "--device", "--mode",
+                          "--patch-size", "--stats"})
+    EXPECT_NE(r.output.find(opt), std::string::npos) << opt;
+  EXPECT_EQ(run_cli("--help").exit_code, 0);
+  EXPECT_EQ(run_cli("--version").exit_code, 0);
+}
+
+TEST(Cli, UsageErrorsExitTwoAndNameTheOption) {
+  struct Case { std::string args, needle; };
+  const Case cases[] = {
+      {"render " + kScenes + "cornell-box.gltf --bogus 3", "--bogus"},
+      {"render " + kScenes + "cornell-box.gltf --width 0", "--width"},
+      {"render " + kScenes + "cornell-box.gltf --width abc", "--width"},
+      {"render " + kScenes + "cornell-box.gltf --spp -4", "--spp"},
+      {"render " + kScenes + "cornell-box.gltf --time nan", "--time"},
+      {"render " + kScenes + "cornell-box.gltf --mode xyz", "--mode"},
+      {"render " + kScenes + "cornell-box.gltf --patch-size 0", "--patch-size"},
+      {"render " + kScenes + "cornell-box.gltf --spp", "--spp"},
+      {"render", "no scene"},
+      {"frobnicate", "unknown command"},
+      {"", "usage"},
+  };
+  for (const Case& c : cases) {
+    CliResult r = run_cli(c.args);
+    EXPECT_EQ(r.exit_code, 2) << c.args << "\n" << r.output;
+    EXPECT_NE(r.output.find(c.needle), std::string::npos) << c.args << "\n" << r.output;
+  }
+}
+
+TEST(Cli, UnknownDeviceIsAnErrorListingDevices) {
+  CliResult r = run_cli("render " + kScenes + "cornell-box.gltf --device no-such-device-xyz --spp 1");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("no-such-device-xyz"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("[0]"), std::string::npos) << r.output;
+}
+
+TEST(Cli, MissingSceneFileExitsThreeNamingTheFile) {
+  std::string dir = fresh_dir("missing_scene");
+  CliResult r = run_cli("render /nonexistent/scene.gltf --out " + dir + "/x");
+  EXPECT_EQ(r.exit_code, 3) << r.output;
+  EXPECT_NE(r.output.find("/nonexistent/scene.gltf"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir + "/x.exr"));
+  EXPECT_FALSE(fs::exists(dir + "/x.png"));
+}
+
+TEST(Cli, NoOpenClPlatformExitsTwoNamingThePackage) {
+  // The ICD loader finds no vendor in an empty directory: no platform at all.
+  std::string dir = fresh_dir("no_platform");
+  CliResult r = run_cli("devices", "OCL_ICD_VENDORS=" + dir);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("pocl-opencl-icd"), std::string::npos) << r.output;
+  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << "one line: " << r.output;
+}
+
+TEST(Cli, DevicesListsIndexedDevices) {
+  CliResult r = run_cli("devices");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(r.output.rfind("[0] ", 0), 0u) << r.output;
+}
+
+TEST(Cli, RenderWritesExrPngAndStats) {
+  std::string dir = fresh_dir("render_outputs");
+  CliResult r = run_cli("render " + kScenes + "cornell-box.gltf --width 40 --height 30 --spp 4 --out " + dir +
+                        "/cb --stats " + dir + "/stats.json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  ImageRGB img = read_exr(dir + "/cb.exr");
+  EXPECT_EQ(img.width, 40);
+  EXPECT_EQ(img.height, 30);
+  EXPECT_TRUE(fs::file_size(dir + "/cb.png") > 100);
+  nlohmann::json stats = nlohmann::json::parse(std::ifstream(dir + "/stats.json"));
+  for (const char* key : {"device", "mode", "width", "height", "spp", "triangles", "patches", "render_seconds",
+                          "kernel_build_seconds", "rays", "mrays_per_second", "nan_or_inf_samples"})
+    EXPECT_TRUE(stats.contains(key)) << key;
+  EXPECT_EQ(stats["spp"], 4);
+  EXPECT_EQ(stats["width"], 40);
+  EXPECT_EQ(stats["mode"], "pt");
+  EXPECT_GT(stats["rays"].get<double>(), 40.0 * 30 * 4 * 0.5);
+  EXPECT_EQ(stats["nan_or_inf_samples"], 0);
+  EXPECT_TRUE(stats["launches"].contains("pathtrace"));
+  // No temporary files left behind.
+  for (const auto& e : fs::directory_iterator(dir))
+    EXPECT_EQ(e.path().string().find(".tmp-"), std::string::npos) << e.path();
+}
+
+TEST(Cli, TimeBudgetStopsTheRender) {
+  std::string dir = fresh_dir("time_budget");
+  CliResult r = run_cli("render " + kScenes + "cornell-box.gltf --width 32 --height 32 --time 0.5 --out " + dir +
+                        "/t --stats " + dir + "/s.json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  nlohmann::json stats = nlohmann::json::parse(std::ifstream(dir + "/s.json"));
+  EXPECT_GE(stats["spp"].get<int>(), 1);
+  EXPECT_LT(stats["render_seconds"].get<double>(), 10.0);  // a sanity bound, not a timing assertion
+}
+
+TEST(Cli, SigintWritesTheSamplesDoneAndExits130) {
+  std::string dir = fresh_dir("sigint");
+  // A render far too long to finish, interrupted once it has started.
+  std::string render = "'" + std::string(BP_BINARY) + "' render " + kScenes +
+                       "cornell-box.gltf --width 64 --height 64 --spp 100000000 --out " + dir + "/i --stats " + dir +
+                       "/s.json";
+  CliResult r = run_shell(render + " & pid=$!; sleep 2; kill -INT $pid; wait $pid; echo \"exit=$?\"");
+  EXPECT_NE(r.output.find("exit=130"), std::string::npos) << r.output;
+  nlohmann::json stats = nlohmann::json::parse(std::ifstream(dir + "/s.json"));
+  EXPECT_TRUE(stats["interrupted"].get<bool>());
+  std::uint64_t spp = stats["spp"];
+  EXPECT_GE(spp, 1u);
+  EXPECT_LT(spp, 100000000u);
+  ImageRGB img = read_exr(dir + "/i.exr");
+  EXPECT_EQ(img.width, 64);
+  double sum = 0;
+  for (float v : img.rgb) sum += v;
+  EXPECT_GT(sum, 0.0) << "the interrupted image holds the samples done";
+  EXPECT_TRUE(fs::exists(dir + "/i.png"));
+}
+
+}  // namespace
+}  // namespace bp::test

@@ -1,0 +1,187 @@
+// Hand-made files of tests/data/gltf (written by make_test_files.py there): what the loader
+// accepts, how it maps materials, and the one-line errors for every kind of broken file.
+#include "scene/gltf_loader.h"
+#include "scene/gltf_test_util.h"
+
+#include <gtest/gtest.h>
+
+namespace bp {
+namespace {
+
+using test::has_warning;
+using test::test_file;
+
+void expect_vec3_near(const glm::vec3& a, const glm::vec3& b, float tol = 1e-5f) {
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(a[i], b[i], tol) << "component " << i;
+}
+
+TEST(GltfLoader, ExternalBinBesideTheFile) {
+  const Scene s = load_gltf(test_file("good/external-bin.gltf"));
+  EXPECT_EQ(s.triangles.size(), 1u);
+}
+
+TEST(GltfLoader, BinaryGlb) {
+  const Scene s = load_gltf(test_file("good/triangle.glb"));
+  ASSERT_EQ(s.triangles.size(), 1u);
+  expect_vec3_near(s.triangles[0].p[1], {1, 0, 0});
+  EXPECT_EQ(s.triangles[0].material, 1u);
+}
+
+TEST(GltfLoader, StridedBufferView) {
+  const Scene s = load_gltf(test_file("good/strided.gltf"));
+  ASSERT_EQ(s.triangles.size(), 1u);
+  expect_vec3_near(s.triangles[0].p[2], {0, 1, 0});
+}
+
+TEST(GltfLoader, SparseAccessorWithoutBufferView) {
+  const Scene s = load_gltf(test_file("good/sparse-no-view.gltf"));
+  ASSERT_EQ(s.triangles.size(), 1u);
+  expect_vec3_near(s.triangles[0].p[0], {0, 0, 1});
+  expect_vec3_near(s.triangles[0].p[1], {2, 0, 1});
+  expect_vec3_near(s.triangles[0].p[2], {0, 3, 1});
+}
+
+TEST(GltfLoader, MaterialMapping) {
+  const Scene s = load_gltf(test_file("good/materials.gltf"));
+  ASSERT_EQ(s.materials.size(), 6u);
+  ASSERT_EQ(s.triangles.size(), 6u);
+  // Index 0 is the default material; file material i is at i + 1.
+  expect_vec3_near(s.materials[0].kd, glm::vec3(0.8f));
+  expect_vec3_near(s.materials[0].ks, glm::vec3(0.0f));
+  for (std::uint32_t i = 0; i < 5; ++i) EXPECT_EQ(s.triangles[i].material, i + 1);
+  EXPECT_EQ(s.triangles[5].material, 0u);
+
+  const SceneMaterial& phong = s.materials[1];  // extras.phong wins over the PBR fields
+  expect_vec3_near(phong.kd, {0.2f, 0.3f, 0.4f});
+  expect_vec3_near(phong.ks, glm::vec3(0.5f));
+  EXPECT_FLOAT_EQ(phong.shininess, 20.0f);
+
+  const SceneMaterial& core_default = s.materials[2];  // baseColor 1, metallic 1, roughness 1
+  expect_vec3_near(core_default.kd, glm::vec3(0.0f));
+  expect_vec3_near(core_default.ks, glm::vec3(1.0f));
+  EXPECT_FLOAT_EQ(core_default.shininess, 0.0f);
+
+  const SceneMaterial& pbr = s.materials[3];  // base (0.5, 0.25, 0.9), metallic 0.5, rough 0.5, specular 0.5
+  expect_vec3_near(pbr.kd, {0.25f, 0.125f, 0.45f});
+  expect_vec3_near(pbr.ks, glm::vec3(0.25f, 0.125f, 0.45f) + 0.5f * 0.04f * 0.5f);
+  EXPECT_NEAR(pbr.shininess, 30.0f, 1e-3);  // a = 0.25: 2 / a^2 - 2
+
+  const SceneMaterial& bright = s.materials[4];  // kd + ks = 1.6 in red: scaled by 1/1.6
+  expect_vec3_near(bright.kd, {0.5f, 0.125f, 0.125f});
+  expect_vec3_near(bright.ks, {0.5f, 0.125f, 0.125f});
+  EXPECT_TRUE(has_warning(s, "\"too bright\""));
+
+  const SceneMaterial& lamp = s.materials[5];
+  expect_vec3_near(lamp.emission, {4.0f, 2.0f, 1.0f});  // emissiveFactor x emissiveStrength 4
+  EXPECT_TRUE(lamp.double_sided);
+  EXPECT_FLOAT_EQ(lamp.shininess, 1e6f);  // roughness 0
+  EXPECT_FALSE(phong.double_sided);
+
+  EXPECT_EQ(s.emissive_triangles(), 1u);
+  EXPECT_FALSE(has_warning(s, "no emitter"));
+}
+
+TEST(GltfLoader, HierarchyTransformsAndMirroredWinding) {
+  const Scene s = load_gltf(test_file("good/hierarchy.gltf"));
+  ASSERT_EQ(s.triangles.size(), 4u);  // the quad, instanced twice
+  // Child 1: scale 2 under translation 10; child 2: mirrored in x, at -5, under translation 10.
+  expect_vec3_near(s.bounds.lo, {4, 0, 0});
+  expect_vec3_near(s.bounds.hi, {12, 2, 0});
+  for (const auto& t : s.triangles) EXPECT_GT(test::normal_of(t).z, 0.0f) << "front face must stay +z";
+  // Camera: rotated a quarter turn about +y, so it looks down -x.
+  EXPECT_TRUE(s.camera.from_file);
+  expect_vec3_near(s.camera.position, {0, 0, 5});
+  expect_vec3_near(s.camera.forward, {-1, 0, 0});
+  expect_vec3_near(s.camera.up, {0, 1, 0});
+  EXPECT_FLOAT_EQ(s.camera.yfov, 0.5f);
+  EXPECT_EQ(s.camera.aspect, 0.0f);  // not given
+}
+
+TEST(GltfLoader, NoScenesDrawsEveryRootNode) {
+  const Scene s = load_gltf(test_file("good/no-scenes.gltf"));
+  EXPECT_EQ(s.triangles.size(), 2u);
+  EXPECT_FLOAT_EQ(s.bounds.lo.z, 1.0f);
+  EXPECT_FLOAT_EQ(s.bounds.hi.z, 2.0f);
+}
+
+TEST(GltfLoader, OrthographicOnlyFallsBackToDefaultView) {
+  const Scene s = load_gltf(test_file("good/ortho-camera.gltf"));
+  EXPECT_FALSE(s.camera.from_file);
+  EXPECT_TRUE(has_warning(s, "orthographic"));
+  EXPECT_TRUE(has_warning(s, "no camera in file; using a default view"));
+}
+
+TEST(GltfLoader, DegenerateTrianglesDroppedWithOneWarning) {
+  const Scene s = load_gltf(test_file("good/degenerate.gltf"));
+  EXPECT_EQ(s.triangles.size(), 1u);
+  EXPECT_TRUE(has_warning(s, "dropped 1 degenerate"));
+}
+
+// ------------------------------------------------------------------ broken files
+
+struct BadCase {
+  const char* file;
+  const char* object;  // what the message must name besides the file
+};
+
+class GltfBadFile : public ::testing::TestWithParam<BadCase> {};
+
+TEST_P(GltfBadFile, ThrowsOneLineSceneErrorNamingFileAndObject) {
+  const BadCase& c = GetParam();
+  const std::string path = test_file(std::string("bad/") + c.file);
+  try {
+    load_gltf(path);
+    FAIL() << "loaded " << c.file;
+  } catch (const SceneError& e) {
+    const std::string what = e.what();
+    EXPECT_EQ(what.rfind(path + ": ", 0), 0u) << what;
+    EXPECT_NE(what.find(c.object), std::string::npos) << what;
+    EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    All, GltfBadFile,
+    ::testing::Values(
+        BadCase{"does-not-exist.gltf", "cannot open"},
+        BadCase{"not-gltf.gltf", "not glTF"},
+        BadCase{"syntax-error.gltf", "JSON"},
+        BadCase{"overflow-number.gltf", "JSON"},
+        BadCase{"glb-version.glb", ".glb header"},
+        BadCase{"glb-truncated.glb", ".glb header"},
+        BadCase{"accessor-index.gltf", "accessor 5 (POSITION of mesh 0 primitive 0) does not exist"},
+        BadCase{"indices-accessor-index.gltf", "accessor 7 (indices of mesh 0 primitive 0)"},
+        BadCase{"buffer-view-index.gltf", "refers to buffer view 4"},
+        BadCase{"buffer-index.gltf", "buffer view 0 refers to buffer 3"},
+        BadCase{"accessor-past-view.gltf", "accessor 0 (POSITION of mesh 0 primitive 0) runs past the end of buffer view 0"},
+        BadCase{"view-past-buffer.gltf", "buffer view 1 runs past the end of buffer 0"},
+        BadCase{"small-stride.gltf", "buffer view 0 has byteStride 8"},
+        BadCase{"index-value.gltf", "accessor 1 (indices of mesh 0 primitive 0) holds index 3"},
+        BadCase{"material-index.gltf", "mesh 0 primitive 0 refers to material 2"},
+        BadCase{"mesh-index.gltf", "node 0 refers to mesh 1"},
+        BadCase{"camera-index.gltf", "node 0 refers to camera 0"},
+        BadCase{"child-index.gltf", "node 0 refers to node 9"},
+        BadCase{"scene-node-index.gltf", "scene 0 refers to node 4"},
+        BadCase{"default-scene.gltf", "scene 2"},
+        BadCase{"node-cycle.gltf", "cycle"},
+        BadCase{"nan-position.gltf", "non-finite position"},
+        BadCase{"infinite-transform.gltf", "node 1 has a non-finite"},
+        BadCase{"normalized-positions.gltf", "accessor 0 (POSITION of mesh 0 primitive 0) has unsupported component type"},
+        BadCase{"mode.gltf", "mesh 0 primitive 0 has unknown mode 9"},
+        BadCase{"points-only.gltf", "no triangles"},
+        BadCase{"sparse-index-range.gltf", "sparse index 3 is out of range"},
+        BadCase{"sparse-not-increasing.gltf", "sparse indices are not strictly increasing"},
+        BadCase{"uri-parent.gltf", "buffer 0 uri"},
+        BadCase{"uri-absolute.gltf", "buffer 0 uri"},
+        BadCase{"uri-encoded-parent.gltf", "buffer 0 uri"},
+        BadCase{"missing-bin.gltf", "buffer 0 uri \"missing.bin\""}),
+    [](const auto& info) {
+      std::string name = info.param.file;
+      name = name.substr(0, name.find('.'));
+      for (char& ch : name)
+        if (ch == '-') ch = '_';
+      return name;
+    });
+
+}  // namespace
+}  // namespace bp

@@ -1,0 +1,22 @@
+// Helpers shared by the scene tests.
+#pragma once
+#include "scene/scene.h"
+
+#include <glm/glm.hpp>
+#include <string>
+
+namespace bp::test {
+
+inline std::string gltf_sample(const std::string& name) { return std::string(BP_SOURCE_DIR) + "/tests/data/gltf/samples/" + name; }
+inline std::string test_file(const std::string& rel) { return std::string(BP_SOURCE_DIR) + "/tests/data/gltf/" + rel; }
+inline std::string scene_file(const std::string& name) { return std::string(BP_SOURCE_DIR) + "/scenes/" + name; }
+
+inline glm::vec3 normal_of(const SceneTriangle& t) { return glm::cross(t.p[1] - t.p[0], t.p[2] - t.p[0]); }
+
+inline bool has_warning(const Scene& s, const std::string& part) {
+  for (const auto& w : s.warnings)
+    if (w.find(part) != std::string::npos) return true;
+  return false;
+}
+
+}  // namespace bp::test
