@@ -8,7 +8,9 @@
 #include "image/image.h"
 #include "image/stats_io.h"
 #include "passes/path_tracer.h"
+#include "passes/ray_bundles.h"
 #include "passes/render_loop.h"
+#include "scene/bundle_geometry.h"
 #include "scene/bvh.h"
 #include "scene/gltf_loader.h"
 #include "scene/patches.h"
@@ -17,6 +19,8 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
+#include <optional>
 
 namespace bp {
 namespace {
@@ -61,20 +65,40 @@ int run_render(const RenderOptions& o) {
 
   DeviceContext device(select_device(o.device));
   DeviceScene device_scene(device, bvh, pack_triangle_shading(scene, patches), pack_materials(scene));
-  PathTracerSettings settings;
-  settings.seed = o.seed;
-  settings.max_depth = o.max_depth;
-  PathTracerPass pass(device, device_scene, pack_camera(scene.camera, width, height), ray_epsilon_for(scene.bounds),
-                      settings);
+  const CameraParams camera = pack_camera(scene.camera, width, height);
+  std::unique_ptr<ProgressivePass> pass;
+  std::uint64_t rounds = 0;
+  std::optional<BundleGeometry> geometry;
+  if (o.mode == "pt") {
+    PathTracerSettings settings;
+    settings.seed = o.seed;
+    settings.max_depth = o.max_depth;
+    pass = std::make_unique<PathTracerPass>(device, device_scene, camera, ray_epsilon_for(scene.bounds), settings);
+    rounds = o.spp;
+  } else {
+    geometry = build_bundle_geometry(scene, patches);
+    RayBundleSettings settings;
+    settings.seed = o.seed;
+    settings.bins = o.bins;
+    settings.warmup = o.warmup;
+    try {
+      pass = std::make_unique<RayBundlePass>(device, device_scene, *geometry, camera, settings);
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(e.what());
+    }
+    rounds = o.iterations;
+  }
 
   install_interrupt_handlers();
   Accumulator accum(width, height);
   ProgressBar bar(o.mode);
   const double pixels = double(width) * height;
-  RenderOutcome outcome = run_path_tracer(
-      pass, accum, RenderBudget{o.spp, o.seconds}, stop_requested(), [&](const RenderProgress& p) {
+  const bool per_pixel = o.mode == "pt";
+  RenderOutcome outcome = run_progressive(
+      *pass, accum, RenderBudget{rounds, o.seconds}, stop_requested(), [&](const RenderProgress& p) {
         double secs = std::max(p.elapsed_seconds, 1e-9);
-        bar.update(p.fraction, double(p.spp_done) * pixels / secs, double(p.rays) / secs * 1e-6, p.elapsed_seconds);
+        bar.update(p.fraction, double(p.rounds_done) * (per_pixel ? pixels : 1.0) / secs, double(p.rays) / secs * 1e-6,
+                   p.elapsed_seconds, per_pixel ? "samples/s" : "iterations/s");
       });
   bar.finish();
 
@@ -93,26 +117,37 @@ int run_render(const RenderOptions& o) {
     stats["mode"] = o.mode;
     stats["width"] = width;
     stats["height"] = height;
-    stats["spp"] = outcome.spp;
+    stats["spp"] = per_pixel ? outcome.rounds : 0;
     stats["seed"] = o.seed;
     stats["triangles"] = scene.triangles.size();
     stats["patches"] = patches.patch_count;
     stats["patch_size"] = patch_size;
     stats["load_seconds"] = load_seconds;
     stats["bvh_build_seconds"] = bvh_seconds;
-    stats["kernel_build_seconds"] = pass.program().build_seconds;
-    stats["kernel_from_cache"] = pass.program().from_cache;
+    stats["kernel_build_seconds"] = pass->program().build_seconds;
+    stats["kernel_from_cache"] = pass->program().from_cache;
     stats["render_seconds"] = outcome.seconds;
     stats["rays"] = outcome.rays;
     stats["mrays_per_second"] = mrays_per_second;
     stats["nan_or_inf_samples"] = outcome.nonfinite_samples;
     stats["interrupted"] = outcome.interrupted;
-    for (const auto& [name, t] : pass.launcher().totals())
+    if (auto* rb = dynamic_cast<RayBundlePass*>(pass.get())) {
+      const double iterations = double(outcome.rounds) + o.warmup;
+      stats["iterations"] = outcome.rounds;
+      stats["warmup_iterations"] = o.warmup;
+      stats["bins"] = rb->bins();
+      stats["elements"] = geometry->elements.size();
+      stats["fragments_per_iteration"] = iterations > 0 ? double(outcome.fragments) / iterations : 0.0;
+      stats["ms_per_iteration"] = outcome.rounds ? outcome.seconds * 1e3 / iterations : 0.0;
+      stats["fragments_per_second"] = outcome.seconds > 0 ? double(outcome.fragments) / outcome.seconds : 0.0;
+    }
+    for (const auto& [name, t] : pass->launcher().totals())
       stats["launches"][name] = {{"count", t.launches}, {"device_seconds", t.device_seconds}};
     write_json_file(o.stats_path, stats);
   }
-  std::fprintf(stderr, "bundlepath: %s%llu spp at %dx%d in %.2f s (%.2f Mrays/s) -> %s, %s\n",
-               outcome.interrupted ? "interrupted after " : "", static_cast<unsigned long long>(outcome.spp), width,
+  std::fprintf(stderr, "bundlepath: %s%llu %s at %dx%d in %.2f s (%.2f Mrays/s) -> %s, %s\n",
+               outcome.interrupted ? "interrupted after " : "", static_cast<unsigned long long>(outcome.rounds),
+               per_pixel ? "spp" : "iterations", width,
                height, outcome.seconds, mrays_per_second, exr_path.c_str(), png_path.c_str());
   if (outcome.nonfinite_samples)
     std::fprintf(stderr, "bundlepath: warning: %llu NaN/Inf samples were dropped\n",

@@ -46,12 +46,15 @@ options (defaults in brackets):
   --out PREFIX        output path without extension            [out/<scene name>]
   --width W           image width in pixels, 1..16384          [512]
   --height H          image height in pixels, 1..16384         [width / camera aspect ratio]
-  --spp N             samples per pixel                        [64, unless --time is given]
+  --spp N             samples per pixel (pt)                   [64, unless --time is given]
+  --iterations N      ray-bundle iterations (rb)               [1000, unless --time is given]
   --time SECONDS      stop after this much rendering time; with --spp, whichever comes first
   --seed K            random seed; same seed, same device -> bit-identical image   [1]
   --device SPEC       device index or name substring (see `bundlepath devices`)  [first GPU, else CPU]
-  --mode MODE         estimator: pt (path tracing)             [pt]
-  --patch-size M      target patch edge in metres              [scene diagonal / 40]
+  --mode MODE         estimator: pt (path tracing), rb (global ray-bundle iteration)   [pt]
+  --patch-size M      target patch edge in metres              [scene diagonal / 20]
+  --bins R            transillumination buffer R x R bins (rb) [an average patch covers 4 bins]
+  --warmup N          ray-bundle iterations before the image starts (rb)  [16]
   --stats FILE        write run statistics as JSON
   --exposure STOPS    exposure of the PNG                      [0]
   --max-depth N       safety cap on path length                [65536]
@@ -61,7 +64,7 @@ options (defaults in brackets):
 
 RenderOptions parse_render_options(const std::vector<std::string>& args) {
   RenderOptions o;
-  bool spp_given = false;
+  bool spp_given = false, iterations_given = false;
   using Setter = std::function<void(const std::string& option, const std::string& value)>;
   const std::map<std::string, Setter> setters = {
       {"--out", [&](auto&, auto& v) { o.out_prefix = v; }},
@@ -71,13 +74,21 @@ RenderOptions parse_render_options(const std::vector<std::string>& args) {
          o.spp = parse_number<std::uint64_t>(k, v, 1, 1ull << 32, "a positive integer");
          spp_given = true;
        }},
+      {"--iterations", [&](auto& k, auto& v) {
+         o.iterations = parse_number<std::uint64_t>(k, v, 1, 1ull << 32, "a positive integer");
+         iterations_given = true;
+       }},
+      {"--bins", [&](auto& k, auto& v) { o.bins = parse_number<std::uint32_t>(k, v, 1, 16384, "an integer in 1..16384"); }},
+      {"--warmup", [&](auto& k, auto& v) {
+         o.warmup = parse_number<std::uint32_t>(k, v, 0, 1u << 20, "an integer in 0..1048576");
+       }},
       {"--time", [&](auto& k, auto& v) { o.seconds = parse_number<double>(k, v, 1e-3, 1e7, "seconds > 0"); }},
       {"--seed", [&](auto& k, auto& v) {
          o.seed = parse_number<std::uint32_t>(k, v, 0, 0xffffffffu, "an integer in 0..4294967295");
        }},
       {"--device", [&](auto&, auto& v) { o.device = v; }},
       {"--mode", [&](auto& k, auto& v) {
-         if (v != "pt") throw UsageError(k + ": unknown mode '" + v + "' (available: pt)");
+         if (v != "pt" && v != "rb") throw UsageError(k + ": unknown mode '" + v + "' (available: pt, rb)");
          o.mode = v;
        }},
       {"--patch-size", [&](auto& k, auto& v) {
@@ -115,7 +126,10 @@ RenderOptions parse_render_options(const std::vector<std::string>& args) {
     }
   }
   if (o.scene.empty()) throw UsageError("no scene file given (usage: bundlepath render SCENE.gltf [options])");
-  if (!spp_given && o.seconds == 0.0) o.spp = 64;
+  if (spp_given && o.mode == "rb") throw UsageError("--spp counts path-tracer samples; with --mode rb use --iterations");
+  if (iterations_given && o.mode == "pt") throw UsageError("--iterations counts ray-bundle iterations; with --mode pt use --spp");
+  if (o.mode == "pt" && !spp_given && o.seconds == 0.0) o.spp = 64;
+  if (o.mode == "rb" && !iterations_given && o.seconds == 0.0) o.iterations = 1000;
   if (o.out_prefix.empty()) o.out_prefix = (std::filesystem::path("out") / std::filesystem::path(o.scene).stem()).string();
   return o;
 }

@@ -18,7 +18,10 @@ struct RenderOptions {
   std::string out_prefix;        // default: out/<scene file stem>
   int width = 512;
   int height = 0;                // 0: from the width and the camera's aspect ratio (square if none)
-  std::uint64_t spp = 0;         // 0 and no time: 64
+  std::uint64_t spp = 0;         // --mode pt; 0 and no time: 64
+  std::uint64_t iterations = 0;  // --mode rb; 0 and no time: 1000
+  std::uint32_t bins = 0;        // 0: chosen from the patch count
+  std::uint32_t warmup = 16;     // ray-bundle iterations before the first eye estimate
   double seconds = 0.0;
   std::uint32_t seed = 1;
   std::string device;            // empty: first GPU, else first CPU

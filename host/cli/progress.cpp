@@ -18,15 +18,15 @@ std::string format_duration(double s) {
 
 ProgressBar::ProgressBar(std::string label) : label_(std::move(label)), enabled_(::isatty(STDERR_FILENO) == 1) {}
 
-void ProgressBar::update(double fraction, double samples_per_second, double mrays_per_second, double elapsed) {
+void ProgressBar::update(double fraction, double rate, double mrays_per_second, double elapsed, const char* rate_unit) {
   if (!enabled_) return;
   const int width = 30;
   int filled = int(std::lround(std::clamp(fraction, 0.0, 1.0) * width));
   std::string bar(std::size_t(filled), '#');
   bar.resize(width, '.');
   double eta = fraction > 0.0 ? elapsed * (1.0 - fraction) / fraction : NAN;
-  std::fprintf(stderr, "\r%s [%s] %5.1f%%  %.3g samples/s  %.2f Mrays/s  ETA %s ", label_.c_str(), bar.c_str(),
-               fraction * 100.0, samples_per_second, mrays_per_second, format_duration(eta).c_str());
+  std::fprintf(stderr, "\r%s [%s] %5.1f%%  %.3g %s  %.2f Mrays/s  ETA %s ", label_.c_str(), bar.c_str(),
+               fraction * 100.0, rate, rate_unit, mrays_per_second, format_duration(eta).c_str());
   std::fflush(stderr);
   drawn_ = true;
 }

@@ -8,7 +8,8 @@ namespace bp {
 class ProgressBar {
  public:
   explicit ProgressBar(std::string label);
-  void update(double fraction, double samples_per_second, double mrays_per_second, double elapsed_seconds);
+  void update(double fraction, double rate, double mrays_per_second, double elapsed_seconds,
+              const char* rate_unit = "samples/s");
   void finish();  // ends the line
   bool enabled() const { return enabled_; }
 

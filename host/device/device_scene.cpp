@@ -24,6 +24,7 @@ std::vector<Material> pack_materials(const Scene& scene) {
 
 std::vector<TriangleShading> pack_triangle_shading(const Scene& scene, const PatchLayout& patches) {
   std::vector<TriangleShading> out(scene.triangles.size());
+  std::uint32_t first_element = 0;
   for (std::size_t i = 0; i < scene.triangles.size(); ++i) {
     const SceneTriangle& t = scene.triangles[i];
     glm::vec3 c = glm::cross(t.p[1] - t.p[0], t.p[2] - t.p[0]);
@@ -36,6 +37,8 @@ std::vector<TriangleShading> pack_triangle_shading(const Scene& scene, const Pat
     s.first_patch = patches.first_patch[i];
     s.patch_subdiv = patches.subdiv[i];
     s.area = 0.5f * len;
+    s.first_element = first_element;  // the same numbering as build_bundle_geometry
+    first_element += patches.subdiv[i] * patches.subdiv[i];
   }
   return out;
 }

@@ -1,5 +1,7 @@
 #include "passes/path_tracer.h"
 
+#include <algorithm>
+
 namespace bp {
 
 PathTracerPass::PathTracerPass(const DeviceContext& device, const DeviceScene& scene, const CameraParams& camera,
@@ -23,8 +25,12 @@ PathTracerPass::PathTracerPass(const DeviceContext& device, const DeviceScene& s
   kernel_.setArg(6, pixels_);
 }
 
-BatchCounts PathTracerPass::run(std::uint32_t first, std::uint32_t count, Accumulator& accum) {
-  params_.first_sample = first;
+std::uint32_t PathTracerPass::max_batch() const {
+  return std::uint32_t(std::clamp<std::size_t>((std::size_t(1) << 20) / host_pixels_.size(), 1, 256));
+}
+
+BatchCounts PathTracerPass::run(std::uint64_t first, std::uint32_t count, Accumulator& accum) {
+  params_.first_sample = std::uint32_t(first);
   params_.samples_per_launch = count;
   kernel_.setArg(5, params_);
   launcher_.launch("pathtrace", kernel_, host_pixels_.size(), 64);

@@ -4,6 +4,7 @@
 #include "device/launcher.h"
 #include "device/program_cache.h"
 #include "image/accumulator.h"
+#include "passes/pass.h"
 #include <cstdint>
 
 namespace bp {
@@ -15,21 +16,18 @@ struct PathTracerSettings {
   float weight_ratio = 1.0f;                  // N2 / N1
 };
 
-struct BatchCounts {
-  std::uint64_t rays = 0;
-  std::uint64_t nonfinite_samples = 0;
-};
-
-class PathTracerPass {
+class PathTracerPass : public ProgressivePass {
  public:
   PathTracerPass(const DeviceContext& device, const DeviceScene& scene, const CameraParams& camera,
                  float ray_epsilon, const PathTracerSettings& settings);
 
   // Traces samples [first, first + count) of every pixel and adds them into accum.
-  BatchCounts run(std::uint32_t first, std::uint32_t count, Accumulator& accum);
+  BatchCounts run(std::uint64_t first, std::uint32_t count, Accumulator& accum) override;
+  // About 2^20 samples per launch.
+  std::uint32_t max_batch() const override;
 
-  const BuiltProgram& program() const { return program_; }
-  const Launcher& launcher() const { return launcher_; }
+  const BuiltProgram& program() const override { return program_; }
+  const Launcher& launcher() const override { return launcher_; }
 
  private:
   const DeviceContext& device_;

@@ -1,9 +1,10 @@
-// The render loop: runs batches of samples until the sample target, the time budget, or a stop
-// request, and reports progress after each batch. The batch schedule depends only on the image
-// size and the sample target, never on timing, so the same seed gives the same image.
+// The render loop: runs batches of rounds (PT samples per pixel or RB iterations) until the round
+// target, the time budget, or a stop request, and reports progress after each batch. The batch
+// schedule depends only on the pass and the target, never on timing, so the same seed gives the
+// same image.
 #pragma once
 #include "image/accumulator.h"
-#include "passes/path_tracer.h"
+#include "passes/pass.h"
 #include <atomic>
 #include <cstdint>
 #include <functional>
@@ -11,30 +12,31 @@
 namespace bp {
 
 struct RenderBudget {
-  std::uint64_t spp = 0;       // 0: no sample target
+  std::uint64_t rounds = 0;    // 0: no round target
   double seconds = 0.0;        // 0: no time budget
 };
 
 struct RenderProgress {
-  std::uint64_t spp_done = 0;
+  std::uint64_t rounds_done = 0;
   std::uint64_t rays = 0;
   double elapsed_seconds = 0.0;
   double fraction = 0.0;       // of the budget (samples or time, whichever is nearer its end)
 };
 
 struct RenderOutcome {
-  std::uint64_t spp = 0;
+  std::uint64_t rounds = 0;
   std::uint64_t rays = 0;
+  std::uint64_t fragments = 0;
   std::uint64_t nonfinite_samples = 0;
   double seconds = 0.0;
   bool interrupted = false;
 };
 
-// Samples per pixel of the batch that starts after `done` samples: a doubling ramp (so progress and
-// --time react early) capped so one launch holds about 2^20 samples.
-std::uint32_t batch_size(std::uint64_t done, std::uint64_t target_spp, std::size_t pixels);
+// Rounds in the batch that starts after `done` rounds: a doubling ramp (so progress and --time react
+// early) up to max_batch.
+std::uint32_t batch_size(std::uint64_t done, std::uint64_t target, std::uint32_t max_batch);
 
-RenderOutcome run_path_tracer(PathTracerPass& pass, Accumulator& accum, const RenderBudget& budget,
+RenderOutcome run_progressive(ProgressivePass& pass, Accumulator& accum, const RenderBudget& budget,
                               const std::atomic<bool>& stop_requested,
                               const std::function<void(const RenderProgress&)>& on_progress);
 

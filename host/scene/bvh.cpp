@@ -3,6 +3,7 @@
 #include "scene/bvh.h"
 
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <cstdint>
 #include <stdexcept>
@@ -90,6 +91,8 @@ class BinaryBuilder {
     build(nodes, 0, static_cast<std::uint32_t>(order_.size()), 0);
     return nodes;
   }
+
+  std::size_t size() const { return order_.size(); }
 
   // Scene index of the prim at position i of the leaf order.
   std::uint32_t scene_index(std::uint32_t i) const { return prims_[order_[i]]; }
@@ -250,7 +253,23 @@ class Collapser {
       : bin_(bin), builder_(builder), tris_(tris), out_(out) {}
 
   void run() {
+    greedy_ = true;
+    try {
+      collapse();
+    } catch (const DepthExceeded&) {
+      greedy_ = false;  // guaranteed to fit, as the binary depth is capped
+      collapse();
+    }
+  }
+
+ private:
+  struct DepthExceeded {};
+
+  void collapse() {
+    out_.nodes.clear();
+    out_.triangles.clear();
     out_.nodes.reserve(bin_.size() / 2 + 1);
+    out_.triangles.reserve(builder_.size());
     out_.nodes.push_back(empty_node());
     const BuildNode& root = bin_[0];
     if (root.leaf) {
@@ -260,13 +279,12 @@ class Collapser {
     }
   }
 
- private:
   static BvhNode empty_node() {
     BvhNode node{};
     for (int lane = 0; lane < 4; ++lane) {
       for (int a = 0; a < 3; ++a) {
-        node.bounds[(2 * a) * 4 + lane] = INFINITY;
-        node.bounds[(2 * a + 1) * 4 + lane] = -INFINITY;
+        node.bounds[(2 * a) * 4 + lane] = FLT_MAX;
+        node.bounds[(2 * a + 1) * 4 + lane] = -FLT_MAX;
       }
       node.child[lane] = BVH_LEAF;
     }
@@ -275,15 +293,36 @@ class Collapser {
 
   // Fills out_.nodes[index] with the children and grandchildren of binary inner node b.
   void fill(std::uint32_t index, std::uint32_t b, int depth) {
-    if (depth > BVH_MAX_NODE_DEPTH) throw std::logic_error("bvh: tree deeper than the traversal stack");
-    std::uint32_t slots[4];
-    int n = 0;
-    for (std::uint32_t c : bin_[b].child) {
-      if (bin_[c].leaf) {
-        slots[n++] = c;
-      } else {
-        slots[n++] = bin_[c].child[0];
-        slots[n++] = bin_[c].child[1];
+    if (depth > BVH_MAX_NODE_DEPTH) throw DepthExceeded{};
+    std::uint32_t slots[4] = {bin_[b].child[0], bin_[b].child[1], 0, 0};
+    int n = 2;
+    if (greedy_) {
+      // open the inner slot with the largest surface area until four
+      while (n < 4) {
+        int open = -1;
+        float best_area = -1.0f;
+        for (int i = 0; i < n; ++i) {
+          const BuildNode& c = bin_[slots[i]];
+          if (!c.leaf && c.box.half_area() > best_area) {
+            best_area = c.box.half_area();
+            open = i;
+          }
+        }
+        if (open < 0) break;
+        std::uint32_t opened = slots[open];
+        slots[open] = bin_[opened].child[0];
+        slots[n++] = bin_[opened].child[1];
+      }
+    } else {
+      // children and grandchildren: the depth is at most half the binary depth
+      n = 0;
+      for (std::uint32_t c : bin_[b].child) {
+        if (bin_[c].leaf) {
+          slots[n++] = c;
+        } else {
+          slots[n++] = bin_[c].child[0];
+          slots[n++] = bin_[c].child[1];
+        }
       }
     }
     int inner_count = 0;
@@ -305,8 +344,8 @@ class Collapser {
     const BuildNode& src = bin_[b];
     BvhNode& node = out_.nodes[index];
     for (int a = 0; a < 3; ++a) {
-      node.bounds[(2 * a) * 4 + lane] = src.box.lo[a];
-      node.bounds[(2 * a + 1) * 4 + lane] = src.box.hi[a];
+      node.bounds[(2 * a) * 4 + lane] = src.box.lo[a] - pad(src.box.lo[a]);
+      node.bounds[(2 * a + 1) * 4 + lane] = src.box.hi[a] + pad(src.box.hi[a]);
     }
     if (!src.leaf) {
       node.child[lane] = child;
@@ -317,6 +356,10 @@ class Collapser {
     for (std::uint32_t i = src.first; i < src.first + src.count; ++i)
       out_.triangles.push_back(make_triangle(builder_.scene_index(i)));
   }
+
+  // At least an ulp of x, and 1e-20 so that 1e-20 * (the clamped inverse direction 1e30) puts a
+  // ray along a face 1e10 inside the slab (kernels/shared/bvh.h).
+  static float pad(float x) { return std::max(std::fabs(x) * 1.2e-7f, 1e-20f); }
 
   BvhTriangle make_triangle(std::uint32_t scene_index) const {
     const SceneTriangle& tri = tris_[scene_index];
@@ -337,6 +380,7 @@ class Collapser {
   const BinaryBuilder& builder_;
   const std::vector<SceneTriangle>& tris_;
   FlatBvh& out_;
+  bool greedy_ = true;
 };
 
 }  // namespace

@@ -24,7 +24,9 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
+#include <optional>
 #include <sstream>
 
 namespace bp {
@@ -108,10 +110,13 @@ struct LocalTriangle {
 
 class Loader {
  public:
-  explicit Loader(std::string path) : path_(std::move(path)) {}
+  // `path` names the input in messages; `base_dir` is where relative buffer URIs resolve, or
+  // nullopt for in-memory input, which refuses every buffer that is not a data: URI.
+  Loader(std::string path, std::optional<std::string> base_dir)
+      : path_(std::move(path)), base_dir_(std::move(base_dir)) {}
 
-  Scene load() {
-    parse();
+  Scene load(const std::vector<unsigned char>& bytes, bool binary) {
+    parse(bytes, binary);
     scene_.source = path_;
     read_materials();
     traverse();
@@ -126,23 +131,18 @@ class Loader {
 
   // ------------------------------------------------------------------ parsing
 
-  void parse() {
-    std::ifstream in(path_, std::ios::binary);
-    if (!in) fail(std::string("cannot open file (") + std::strerror(errno) + ")");
-    std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)),
-                                     std::istreambuf_iterator<char>());
-    if (in.bad()) fail("read error");
+  void parse(const std::vector<unsigned char>& bytes, bool binary) {
     if (bytes.empty()) fail("file is empty, not glTF");
-
-    std::string base_dir = std::filesystem::path(path_).parent_path().string();
-    if (base_dir.empty()) base_dir = ".";
+    if (bytes.size() > std::numeric_limits<unsigned>::max()) fail("file is too large (4 GiB or more)");
+    const std::string base_dir = base_dir_.value_or("");
 
     tinygltf::TinyGLTF reader;
     reader.SetImageLoader(&ignore_image, nullptr);
     std::string err, warn;
     bool ok = false;
-    const bool glb = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
-    if (glb) {
+    if (binary) {
+      if (bytes.size() < 4 || std::memcmp(bytes.data(), "glTF", 4) != 0)
+        fail("is not a binary .glb (no \"glTF\" magic)");
       precheck_json(glb_json_chunk(bytes), base_dir);
       ok = reader.LoadBinaryFromMemory(&model_, &err, &warn, bytes.data(),
                                        unsigned(bytes.size()), base_dir);
@@ -211,6 +211,9 @@ class Loader {
       if (!uri_stays_inside(uri))
         fail("buffer " + std::to_string(i) + " uri \"" + uri +
              "\" leaves the asset's folder (only relative paths inside it are allowed)");
+      if (!base_dir_)
+        fail("buffer " + std::to_string(i) + " uri \"" + uri +
+             "\" is an external file, which in-memory input cannot refer to");
       std::error_code ec;
       if (!std::filesystem::is_regular_file(std::filesystem::path(base_dir) / percent_decode(uri), ec))
         fail("buffer " + std::to_string(i) + " uri \"" + uri + "\" names no file in " + base_dir);
@@ -334,7 +337,9 @@ class Loader {
         for (std::size_t c = 0; c < ncomp; ++c)
           out[i * ncomp + c] = component(base + acc.byteOffset + i * stride + c * csize, acc.componentType);
     } else {  // a sparse accessor without a view starts from zeros
-      if (acc.count > (std::size_t(1) << 28)) fail(name + " has an implausible count " + std::to_string(acc.count));
+      // Nothing in the file bounds this count (a 300-byte file could ask for gigabytes of zeros), so
+      // bound it here: 2^20 elements is far beyond any real view-less sparse POSITION or index accessor.
+      if (acc.count > (std::size_t(1) << 20)) fail(name + " has an implausible count " + std::to_string(acc.count));
       out.assign(acc.count * ncomp, 0.0);
     }
     if (acc.sparse.isSparse) apply_sparse(acc, name, ncomp, csize, out);
@@ -607,20 +612,24 @@ class Loader {
     return roots;
   }
 
-  // Depth-first over the default scene, with an explicit stack (deep hierarchies) and an
-  // on-stack set (cycles).
+  // Depth-first over the default scene, with an explicit stack (deep hierarchies), an on-stack
+  // set (cycles) and a visited set: glTF nodes form disjoint strict trees, and a node reached twice
+  // (two parents, or listed twice) would let a small file instance a mesh 2^depth times.
   void traverse() {
     struct Frame {
       int node;
       glm::dmat4 world;
       std::size_t next_child;
     };
-    std::vector<char> on_stack(model_.nodes.size(), 0);
+    std::vector<char> on_stack(model_.nodes.size(), 0), visited(model_.nodes.size(), 0);
     for (int root : root_nodes()) {
       std::vector<Frame> stack;
       auto enter = [&](int n, const glm::dmat4& parent) {
         if (on_stack[n]) fail("node " + std::to_string(n) + " is its own ancestor (cycle in the node hierarchy)");
-        on_stack[n] = 1;
+        if (visited[n])
+          fail("node " + std::to_string(n) +
+               " is reached twice (it has two parents or is listed twice; glTF nodes must form trees)");
+        on_stack[n] = visited[n] = 1;
         const glm::dmat4 world = parent * local_transform(n);
         if (!all_finite(world)) fail("node " + std::to_string(n) + " has a non-finite world transform");
         visit(n, world);
@@ -686,7 +695,7 @@ class Loader {
     if (cam.type != "perspective") fail(obj + " has unknown type \"" + cam.type + "\"");
     const double yfov = cam.perspective.yfov, aspect = cam.perspective.aspectRatio;
     if (!(yfov > 0.0 && yfov < M_PI)) fail(obj + " has yfov " + std::to_string(yfov) + " outside (0, pi)");
-    if (!(aspect >= 0.0 && std::isfinite(aspect))) fail(obj + " has aspectRatio " + std::to_string(aspect));
+    if (!(aspect >= 0.0 && std::isfinite(float(aspect)))) fail(obj + " has aspectRatio " + std::to_string(aspect));
     if (camera_found_) return;  // the first camera in the traversal is the view
     const glm::dvec3 position(world * glm::dvec4(0, 0, 0, 1));
     glm::dvec3 forward = glm::dmat3(world) * glm::dvec3(0, 0, -1);
@@ -738,6 +747,7 @@ class Loader {
   }
 
   std::string path_;
+  std::optional<std::string> base_dir_;
   tinygltf::Model model_;
   Scene scene_;
   std::map<int, std::vector<LocalTriangle>> mesh_cache_;
@@ -748,6 +758,19 @@ class Loader {
 
 }  // namespace
 
-Scene load_gltf(const std::string& path) { return Loader(path).load(); }
+Scene load_gltf(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw SceneError(one_line(path + ": cannot open file (" + std::strerror(errno) + ")"));
+  const std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) throw SceneError(one_line(path + ": read error"));
+  std::string base_dir = std::filesystem::path(path).parent_path().string();
+  if (base_dir.empty()) base_dir = ".";
+  const bool glb = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;  // by content, not name
+  return Loader(path, base_dir).load(bytes, glb);
+}
+
+Scene load_gltf_from_memory(const std::string& bytes, const std::string& display_name, bool binary) {
+  return Loader(display_name, std::nullopt).load(std::vector<unsigned char>(bytes.begin(), bytes.end()), binary);
+}
 
 }  // namespace bp

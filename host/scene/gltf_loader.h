@@ -33,4 +33,9 @@ class SceneError : public std::runtime_error {
 //   Textures are never read (images are accepted and ignored).
 Scene load_gltf(const std::string& path);
 
+// The same from bytes in memory (the fuzz target's entry point): `binary` reads them as a .glb,
+// otherwise as .gltf JSON; `display_name` stands for the path in messages and Scene::source.
+// Buffers may only be embedded (data: URIs, the .glb BIN chunk): any other URI is refused.
+Scene load_gltf_from_memory(const std::string& bytes, const std::string& display_name, bool binary);
+
 }  // namespace bp

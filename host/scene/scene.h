@@ -43,7 +43,7 @@ struct Bounds {
 struct Scene {
   std::string source;                    // file it came from
   std::vector<SceneTriangle> triangles;
-  std::vector<SceneMaterial> materials;  // index 0 is the default material when the file has none
+  std::vector<SceneMaterial> materials;  // index 0: the default material; file material i is at i + 1
   SceneCamera camera;
   Bounds bounds;
   std::vector<std::string> warnings;     // things the loader accepted but a user should know

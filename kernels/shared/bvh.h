@@ -12,15 +12,20 @@
 #define BVH_LEAF_COUNT_MASK 7u
 #define BVH_MAX_LEAF_TRIANGLES 8u
 #define BVH_NO_TRIANGLE 0xffffffffu
-// Each inner node on the path leaves at most 3 entries; the builder caps the depth at
-// (BVH_STACK_SIZE - 1) / 3 nodes.
+#define BVH_NO_CHILD 0xffffffffu
+// Entry distance of a child the ray misses; finite, so that fast-math builds keep the compares.
+#define BVH_MISS 3.0e38f
+// Each inner node on the path leaves at most 3 entries (and writes 3 more slots); the builder caps
+// the depth at BVH_MAX_NODE_DEPTH nodes so 3 * depth + 1 <= BVH_STACK_SIZE.
 #define BVH_STACK_SIZE 64
 #define BVH_MAX_NODE_DEPTH 21
 
 // Four children's boxes, SoA so one fetch feeds one 4-wide slab test:
-// bounds[(2 * axis + side) * 4 + lane], side 0 = lo, 1 = hi. An unused lane has lo = +inf,
-// hi = -inf, so no ray enters it.
-typedef struct {
+// bounds[(2 * axis + side) * 4 + lane], side 0 = lo, 1 = hi. An unused lane has lo = +FLT_MAX,
+// hi = -FLT_MAX, so no ray enters it. The builder pads every box by an ulp and 1e-20 on each side,
+// so a ray running exactly along a face (a zero direction component, inverse clamped to 1e30)
+// is strictly inside the slab and keeps the whole slab's extent.
+typedef struct BP_ALIGN(64) {
   float bounds[24];
   bp_u32 child[4];
   bp_u32 pad[4];  // 128 bytes: two cache lines
@@ -28,7 +33,7 @@ typedef struct {
 
 // Triangle as the test wants it: p0, the edges from p0 and their cross product, in the original
 // vertex order of Scene::triangles[triangle], so the test's barycentrics are the scene's.
-typedef struct {
+typedef struct BP_ALIGN(64) {
   float v0[3];       // p0
   bp_u32 triangle;   // index in Scene::triangles
   float e1[3];       // p1 - p0
@@ -49,7 +54,7 @@ typedef struct {
 // What the slab test needs of a ray, computed once per query.
 typedef struct {
   float org[3];
-  float inv[3];      // 1 / dir, finite: tiny components are clamped away from zero
+  float inv[3];      // 1 / dir, finite: components are clamped away from zero to +-1e-30
   int near[3];       // offset in BvhNode::bounds of the entry plane of each axis (lo if dir >= 0)
 } BvhRay;
 
@@ -58,14 +63,14 @@ BP_FN BvhRay bvh_make_ray(float3 origin, float3 dir) {
   float d[3] = {dir.x, dir.y, dir.z};
   r.org[0] = origin.x; r.org[1] = origin.y; r.org[2] = origin.z;
   for (int a = 0; a < 3; ++a) {
-    float da = fabs(d[a]) < 1e-20f ? (d[a] < 0.0f ? -1e-20f : 1e-20f) : d[a];
+    float da = fabs(d[a]) < 1e-30f ? (d[a] < 0.0f ? -1e-30f : 1e-30f) : d[a];
     r.inv[a] = 1.0f / da;
     r.near[a] = 8 * a + (da < 0.0f ? 4 : 0);
   }
   return r;
 }
 
-// Entry distance of the ray into each of the four children, +inf where it misses it or enters
+// Entry distance of the ray into each of the four children, BVH_MISS where it misses it or enters
 // beyond t_far. Exit distances grow by 2 gamma_3 (Ize 2013) so rounding never loses a hit.
 BP_FN bp_float4 bvh_node_entry(BP_GLOBAL const BvhNode* node, const BvhRay* r, float t_far) {
   BP_GLOBAL const float* b = node->bounds;
@@ -79,7 +84,7 @@ BP_FN bp_float4 bvh_node_entry(BP_GLOBAL const BvhNode* node, const BvhRay* r, f
   bp_float4 fz = (bp_load4(b + (r->near[2] ^ 4)) - oz) * iz;
   bp_float4 entry = bp_max4(bp_max4(nx, ny), bp_max4(nz, bp_splat4(0.0f)));
   bp_float4 t_exit = bp_min4(bp_min4(fx, fy), bp_min4(fz, bp_splat4(t_far))) * bp_splat4(1.0000004f);
-  return entry <= t_exit ? entry : bp_splat4(INFINITY);
+  return entry <= t_exit ? entry : bp_splat4(BVH_MISS);
 }
 
 // Ray-triangle test (Moller-Trumbore with the normal precomputed, as Embree's): with C = p0 - o,
@@ -109,30 +114,36 @@ BP_FN int bvh_intersect_triangle(BP_GLOBAL const BvhTriangle* tri, float3 origin
   return 0;
 }
 
-// Pushes the children with finite entry distance, nearest on top; returns how many.
-BP_FN int bvh_push_children(BP_GLOBAL const BvhNode* node, bp_float4 entry, bp_u32* stack_ref,
-                            float* stack_t, int sp) {
-  int base = sp;
+// Compare-exchange: afterwards *da <= *db, child references moved along. Branch-free.
+BP_FN void bvh_order(float* da, bp_u32* ca, float* db, bp_u32* cb) {
+  float a = *da, b = *db;
+  bp_u32 x = *ca, y = *cb;
+  int swap = b < a;
+  *da = swap ? b : a;
+  *db = swap ? a : b;
+  *ca = swap ? y : x;
+  *cb = swap ? x : y;
+}
+
+// Sorts the children by entry distance (misses last, at BVH_MISS), pushes all reached ones but the
+// nearest, farthest deepest, and returns the nearest, or BVH_NO_CHILD if none is reached.
+// Writes up to 3 slots above *sp whether or not they are kept, so no branch depends on the hits.
+BP_FN bp_u32 bvh_visit_children(BP_GLOBAL const BvhNode* node, bp_float4 entry, bp_u32* stack_ref,
+                                float* stack_t, int* sp) {
   float d0 = BP_LANE(entry, 0), d1 = BP_LANE(entry, 1);
   float d2 = BP_LANE(entry, 2), d3 = BP_LANE(entry, 3);
-  if (d0 < INFINITY) { stack_ref[sp] = node->child[0]; stack_t[sp] = d0; ++sp; }
-  if (d1 < INFINITY) { stack_ref[sp] = node->child[1]; stack_t[sp] = d1; ++sp; }
-  if (d2 < INFINITY) { stack_ref[sp] = node->child[2]; stack_t[sp] = d2; ++sp; }
-  if (d3 < INFINITY) { stack_ref[sp] = node->child[3]; stack_t[sp] = d3; ++sp; }
-  // insertion sort, farthest at the bottom
-  for (int i = base + 1; i < sp; ++i) {
-    bp_u32 ref = stack_ref[i];
-    float d = stack_t[i];
-    int j = i - 1;
-    while (j >= base && stack_t[j] < d) {
-      stack_ref[j + 1] = stack_ref[j];
-      stack_t[j + 1] = stack_t[j];
-      --j;
-    }
-    stack_ref[j + 1] = ref;
-    stack_t[j + 1] = d;
-  }
-  return sp - base;
+  bp_u32 c0 = node->child[0], c1 = node->child[1], c2 = node->child[2], c3 = node->child[3];
+  bvh_order(&d0, &c0, &d1, &c1);  // sorting network for 4
+  bvh_order(&d2, &c2, &d3, &c3);
+  bvh_order(&d0, &c0, &d2, &c2);
+  bvh_order(&d1, &c1, &d3, &c3);
+  bvh_order(&d1, &c1, &d2, &c2);
+  int top = *sp;
+  stack_ref[top] = c3; stack_t[top] = d3; top += d3 < BVH_MISS ? 1 : 0;
+  stack_ref[top] = c2; stack_t[top] = d2; top += d2 < BVH_MISS ? 1 : 0;
+  stack_ref[top] = c1; stack_t[top] = d1; top += d1 < BVH_MISS ? 1 : 0;
+  *sp = top;
+  return d0 < BVH_MISS ? c0 : BVH_NO_CHILD;
 }
 
 // Nearest hit with 0 < t < t_max; dir unit length. Returns 1 and fills *hit if there is one.
@@ -148,13 +159,8 @@ BP_FN int bvh_closest_hit(BP_GLOBAL const BvhNode* nodes, BP_GLOBAL const BvhTri
   for (;;) {
     if ((ref & BVH_LEAF) == 0u) {
       BP_GLOBAL const BvhNode* node = nodes + ref;
-      bp_float4 entry = bvh_node_entry(node, &ray, t);
-      int pushed = bvh_push_children(node, entry, stack_ref, stack_t, sp);
-      if (pushed > 0) {
-        sp += pushed - 1;
-        ref = stack_ref[sp];
-        continue;
-      }
+      ref = bvh_visit_children(node, bvh_node_entry(node, &ray, t), stack_ref, stack_t, &sp);
+      if (ref != BVH_NO_CHILD) continue;
     } else {
       bp_u32 first = (ref & ~BVH_LEAF) >> BVH_LEAF_COUNT_BITS;
       bp_u32 end = first + (ref & BVH_LEAF_COUNT_MASK) + 1u;
@@ -192,13 +198,8 @@ BP_FN int bvh_occluded(BP_GLOBAL const BvhNode* nodes, BP_GLOBAL const BvhTriang
   for (;;) {
     if ((ref & BVH_LEAF) == 0u) {
       BP_GLOBAL const BvhNode* node = nodes + ref;
-      bp_float4 entry = bvh_node_entry(node, &ray, t_max);
-      int pushed = bvh_push_children(node, entry, stack_ref, stack_t, sp);
-      if (pushed > 0) {
-        sp += pushed - 1;
-        ref = stack_ref[sp];
-        continue;
-      }
+      ref = bvh_visit_children(node, bvh_node_entry(node, &ray, t_max), stack_ref, stack_t, &sp);
+      if (ref != BVH_NO_CHILD) continue;
     } else {
       bp_u32 first = (ref & ~BVH_LEAF) >> BVH_LEAF_COUNT_BITS;
       bp_u32 end = first + (ref & BVH_LEAF_COUNT_MASK) + 1u;

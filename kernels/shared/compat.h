@@ -15,6 +15,7 @@ typedef ulong bp_u64;
 BP_FN bp_u32 bp_mulhi(bp_u32 a, bp_u32 b) { return mul_hi(a, b); }
 #define BP_FLOAT_MAX FLT_MAX
 #define BP_ISFINITE(x) isfinite(x)
+#define BP_ALIGN(n) __attribute__((aligned(n)))
 // 4-wide float (SIMD box tests in bvh.h): lanes by constant index, loads of 4 consecutive floats.
 typedef float4 bp_float4;
 #define BP_LANE(v, i) ((v).s##i)
@@ -33,6 +34,7 @@ BP_FN bp_float4 bp_max4(bp_float4 a, bp_float4 b) { return a > b ? a : b; }
 #define BP_FN inline
 #define BP_GLOBAL
 #define BP_CONSTANT
+#define BP_LOAD3_IS_GENERIC 1
 typedef std::uint32_t bp_u32;
 typedef std::int32_t bp_i32;
 typedef std::uint64_t bp_u64;
@@ -40,6 +42,7 @@ inline bp_u32 bp_mulhi(bp_u32 a, bp_u32 b) { return bp_u32((bp_u64(a) * bp_u64(b
 #define BP_FLOAT_MAX FLT_MAX
 #define BP_ISFINITE(x) std::isfinite(x)
 
+#define BP_ALIGN(n) alignas(n)
 // float4 as OpenCL C sees it for bvh.h's box tests: GCC/Clang vector extension, SSE on x86.
 typedef float bp_float4 __attribute__((vector_size(16)));
 #define BP_LANE(v, i) ((v)[i])
@@ -81,6 +84,12 @@ inline float3 fmin(float3 a, float3 b) { return {std::fmin(a.x, b.x), std::fmin(
 #define BP_INV_PI 0.31830988618379067154f
 
 BP_FN float3 bp_load3(BP_GLOBAL const float* p) { return make_float3(p[0], p[1], p[2]); }
+#ifdef BP_LOAD3_IS_GENERIC
+#define bp_private3 bp_load3
+#else
+// The same from private memory (kernel arguments passed by value); OpenCL 1.2 has no generic space.
+BP_FN float3 bp_private3(const float* p) { return make_float3(p[0], p[1], p[2]); }
+#endif
 BP_FN float bp_max3(float3 v) { return fmax(v.x, fmax(v.y, v.z)); }
 
 #endif  // BP_SHARED_COMPAT_H

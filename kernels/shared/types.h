@@ -25,7 +25,7 @@ typedef struct {
   bp_u32 first_patch;
   bp_u32 patch_subdiv;
   float area;
-  float pad0;
+  bp_u32 first_element;  // this triangle's first element (sub-triangle) in the ray-bundle pass
 } TriangleShading;
 
 // Pinhole camera: a primary ray through pixel (px, py) with jitter (jx, jy) in [0,1)^2 is

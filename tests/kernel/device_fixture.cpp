@@ -1,5 +1,7 @@
 #include "kernel/device_fixture.h"
 
+#include <cmath>
+
 #include "device/device_scene.h"
 #include "passes/path_tracer.h"
 #include "scene/bvh.h"
@@ -26,9 +28,68 @@ RenderRun render_pt(const Scene& scene, int width, int height, std::uint64_t spp
   Accumulator accum(width, height);
   std::atomic<bool> never{false};
   RenderRun run;
-  run.outcome = run_path_tracer(pass, accum, RenderBudget{spp, 0.0}, never, nullptr);
+  run.outcome = run_progressive(pass, accum, RenderBudget{spp, 0.0}, never, nullptr);
   run.image = accum.mean();
   return run;
+}
+
+std::unique_ptr<BundleRig> make_bundle_rig(const Scene& scene, float patch_size, std::uint32_t bins,
+                                           std::uint32_t seed, int width, int height, std::uint32_t warmup) {
+  auto rig = std::make_unique<BundleRig>();
+  rig->scene = scene;
+  rig->patches = build_patch_layout(rig->scene, patch_size);
+  rig->bvh = build_bvh(rig->scene.triangles);
+  rig->geometry = build_bundle_geometry(rig->scene, rig->patches);
+  rig->device_scene = std::make_unique<DeviceScene>(test_device(), rig->bvh,
+                                                    pack_triangle_shading(rig->scene, rig->patches),
+                                                    pack_materials(rig->scene));
+  RayBundleSettings settings;
+  settings.seed = seed;
+  settings.bins = bins;
+  settings.warmup = warmup;
+  rig->pass = std::make_unique<RayBundlePass>(test_device(), *rig->device_scene, rig->geometry,
+                                              pack_camera(rig->scene.camera, width, height), settings);
+  return rig;
+}
+
+RenderRun render_rb(BundleRig& rig, std::uint64_t iterations) {
+  Accumulator accum(int(rig.pass->pixel_width()), int(rig.pass->pixel_height()));
+  std::atomic<bool> never{false};
+  RenderRun run;
+  run.outcome = run_progressive(*rig.pass, accum, RenderBudget{iterations, 0.0}, never, nullptr);
+  run.image = accum.mean();
+  return run;
+}
+
+Scene make_parallel_squares(float side, float distance, float le) {
+  Scene scene;
+  SceneMaterial emitter, receiver;
+  emitter.kd = glm::vec3(0.0f);
+  emitter.emission = glm::vec3(le);
+  receiver.kd = glm::vec3(0.0f);
+  scene.materials = {emitter, receiver};
+  const float s = side, d = distance;
+  // Emitter at z = 0 facing +z (counter-clockwise seen from +z).
+  scene.triangles.push_back({{{0, 0, 0}, {s, 0, 0}, {s, s, 0}}, 0});
+  scene.triangles.push_back({{{0, 0, 0}, {s, s, 0}, {0, s, 0}}, 0});
+  // Receiver at z = d facing -z.
+  scene.triangles.push_back({{{0, 0, d}, {s, s, d}, {s, 0, d}}, 1});
+  scene.triangles.push_back({{{0, 0, d}, {0, s, d}, {s, s, d}}, 1});
+  for (const SceneTriangle& t : scene.triangles)
+    for (const glm::vec3& p : t.p) scene.bounds.grow(p);
+  scene.camera.position = glm::vec3(0.5f * s, 0.5f * s, 0.5f * d);
+  scene.camera.forward = glm::vec3(0, 0, 1);
+  scene.camera.up = glm::vec3(0, 1, 0);
+  return scene;
+}
+
+double parallel_rectangles_form_factor(double a, double b, double c) {
+  // Hottel's crossed-strings result for directly opposed parallel rectangles (e.g. Howell's catalogue, C-11).
+  const double x = a / c, y = b / c;
+  const double t1 = std::log(std::sqrt((1 + x * x) * (1 + y * y) / (1 + x * x + y * y)));
+  const double t2 = x * std::sqrt(1 + y * y) * std::atan(x / std::sqrt(1 + y * y));
+  const double t3 = y * std::sqrt(1 + x * x) * std::atan(y / std::sqrt(1 + x * x));
+  return 2.0 / (M_PI * x * y) * (t1 + t2 + t3 - x * std::atan(x) - y * std::atan(y));
 }
 
 Scene make_closed_box(float h, const SceneMaterial& material) {

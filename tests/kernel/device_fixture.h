@@ -3,7 +3,12 @@
 #pragma once
 #include "device/device_context.h"
 #include "image/image.h"
+#include "device/device_scene.h"
+#include "passes/ray_bundles.h"
 #include "passes/render_loop.h"
+#include "scene/bundle_geometry.h"
+#include "scene/bvh.h"
+#include "scene/patches.h"
 #include "scene/scene.h"
 #include <memory>
 
@@ -18,6 +23,29 @@ struct RenderRun {
 
 RenderRun render_pt(const Scene& scene, int width, int height, std::uint64_t spp, std::uint32_t seed,
                     std::uint32_t max_depth = 65536);
+
+// Everything a ray-bundle test needs, built from a Scene the way the CLI builds it.
+struct BundleRig {
+  Scene scene;
+  PatchLayout patches;
+  FlatBvh bvh;
+  BundleGeometry geometry;
+  std::unique_ptr<DeviceScene> device_scene;
+  std::unique_ptr<RayBundlePass> pass;
+};
+std::unique_ptr<BundleRig> make_bundle_rig(const Scene& scene, float patch_size, std::uint32_t bins,
+                                           std::uint32_t seed, int width = 8, int height = 8,
+                                           std::uint32_t warmup = 0);
+
+// Runs `iterations` eye estimates (after the rig's warm-up) and returns the mean image.
+RenderRun render_rb(BundleRig& rig, std::uint64_t iterations);
+
+// Two parallel squares of side `side` at distance `distance`: the emitter (Le, facing +z, black)
+// at z = 0, the receiver (black, facing -z) at z = distance. Material 0 emits, material 1 receives.
+Scene make_parallel_squares(float side, float distance, float le);
+
+// Closed-form form factor between two directly opposed parallel rectangles a x b at distance c.
+double parallel_rectangles_form_factor(double a, double b, double c);
 
 // A closed axis-aligned box [-h,h]^3 seen from inside: 12 triangles facing inwards, one material.
 Scene make_closed_box(float half_size, const SceneMaterial& material);

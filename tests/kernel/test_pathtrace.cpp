@@ -63,7 +63,7 @@ TEST(PathTraceCounters, RaysCountWhatWasTraced) {
   Scene scene = make_closed_box(1.0f, m);
   RenderRun run = render_pt(scene, 10, 10, 3, 1u);
   EXPECT_EQ(run.outcome.rays, 10u * 10u * 3u);
-  EXPECT_EQ(run.outcome.spp, 3u);
+  EXPECT_EQ(run.outcome.rounds, 3u);
 }
 
 }  // namespace

@@ -1,0 +1,29 @@
+// What the render loop needs of an estimator: run a batch of rounds (PT samples per pixel, or RB
+// iterations) and add their estimates into the accumulator.
+#pragma once
+#include "device/launcher.h"
+#include "device/program_cache.h"
+#include "image/accumulator.h"
+#include <cstddef>
+#include <cstdint>
+
+namespace bp {
+
+struct BatchCounts {
+  std::uint64_t rays = 0;               // rays traced (camera, bounce and primary-hit rays)
+  std::uint64_t fragments = 0;          // transillumination-buffer fragments (ray bundles)
+  std::uint64_t nonfinite_samples = 0;  // samples dropped because they were NaN or Inf
+};
+
+class ProgressivePass {
+ public:
+  virtual ~ProgressivePass() = default;
+  // Rounds [first, first + count): adds their estimates into accum and count to its round total.
+  virtual BatchCounts run(std::uint64_t first, std::uint32_t count, Accumulator& accum) = 0;
+  // Most rounds in one batch (so a batch stays a fraction of a second).
+  virtual std::uint32_t max_batch() const = 0;
+  virtual const Launcher& launcher() const = 0;
+  virtual const BuiltProgram& program() const = 0;
+};
+
+}  // namespace bp

@@ -1,0 +1,286 @@
+#include "passes/ray_bundles.h"
+
+#include "kernels/shared/frame.h"
+#include "kernels/shared/rng.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace bp {
+namespace {
+
+constexpr std::uint32_t kDirectionStream = 0x0b0d1e5u;  // RNG stream of the iteration directions
+constexpr std::size_t kFragmentBytes = 4 + 4 + 4 + 4 + 16 + 16;  // bin, depth, element, sorted slot, 2 received
+
+cl_uint as_uint(std::size_t v) { return cl_uint(v); }
+
+}  // namespace
+
+std::uint32_t default_bins(const BundleGeometry& g, double bins_per_element) {
+  if (g.elements.empty()) return 1;
+  double mean_projected = 0.5 * g.element_area / double(g.elements.size());
+  double bin_size = std::sqrt(mean_projected / bins_per_element);
+  double r = 2.0 * g.radius / bin_size;
+  return std::uint32_t(std::clamp(std::ceil(r), 16.0, 4096.0));
+}
+
+double expected_fragments(const BundleGeometry& g, std::uint32_t bins) {
+  double bin_size = 2.0 * g.radius / bins;
+  return 0.5 * g.element_area / (bin_size * bin_size);
+}
+
+std::size_t estimate_bundle_memory(const BundleGeometry& g, std::uint32_t bins, std::size_t pixels) {
+  std::size_t fragments = std::size_t(1.5 * expected_fragments(g, bins)) + g.elements.size() + 1024;
+  std::size_t bin_cells = std::size_t(bins + 1) * (bins + 1) + 1;
+  return fragments * kFragmentBytes + bin_cells * 3 * sizeof(cl_uint) +
+         g.patch_element.size() * (sizeof(cl_uint) + 2 * sizeof(cl_float4)) +
+         g.elements.size() * (sizeof(BundleElement) + 2 * sizeof(cl_uint)) +
+         pixels * (sizeof(EyeHit) + sizeof(cl_float4));
+}
+
+void check_bundle_memory(const DeviceInfo& device, const BundleGeometry& g, std::uint32_t bins, std::size_t pixels) {
+  std::size_t need = estimate_bundle_memory(g, bins, pixels);
+  std::size_t fragments = std::size_t(1.5 * expected_fragments(g, bins)) + g.elements.size() + 1024;
+  std::size_t largest = std::max<std::size_t>(fragments * sizeof(cl_float4), std::size_t(bins + 1) * (bins + 1) * 4);
+  // Leave a quarter of the device for the scene, the path tracer and the driver.
+  if (need > device.global_memory_bytes / 4 * 3 || largest > device.max_alloc_bytes)
+    throw std::invalid_argument(
+        "the ray-bundle pass needs about " + std::to_string(need >> 20) + " MiB (" +
+        std::to_string(std::size_t(expected_fragments(g, bins))) + " fragments per iteration at --bins " +
+        std::to_string(bins) + ", " + std::to_string(g.patch_element.size()) + " patches), more than " +
+        device.device_name + " offers (" + std::to_string(device.global_memory_bytes >> 20) +
+        " MiB): lower --bins or raise --patch-size");
+}
+
+RayBundlePass::RayBundlePass(const DeviceContext& device, const DeviceScene& scene, const BundleGeometry& geometry,
+                             const CameraParams& camera, const RayBundleSettings& settings)
+    : device_(device),
+      scene_(scene),
+      settings_(settings),
+      camera_(camera),
+      bins_(settings.bins ? settings.bins : default_bins(geometry)),
+      element_count_(geometry.elements.size()),
+      patch_count_(geometry.patch_element.size()),
+      pixel_count_(std::size_t(camera.width) * camera.height),
+      bin_count_(std::size_t(bins_ + 1) * (bins_ + 1)),
+      centre_(geometry.centre),
+      radius_(geometry.radius),
+      program_(build_program(device, "bundle.cl")),
+      launcher_(device),
+      scan_(device, program_.program, std::max(element_count_, bin_count_)) {
+  check_bundle_memory(device.info, geometry, bins_, pixel_count_);
+  const cl::Program& p = program_.program;
+  outgoing_ = cl::Kernel(p, "rb_outgoing");
+  count_ = cl::Kernel(p, "rb_count");
+  emit_ = cl::Kernel(p, "rb_emit");
+  bin_count_kernel_ = cl::Kernel(p, "rb_bin_count");
+  bin_scatter_ = cl::Kernel(p, "rb_bin_scatter");
+  transfer_ = cl::Kernel(p, "rb_transfer");
+  gather_ = cl::Kernel(p, "rb_gather");
+  eye_hits_ = cl::Kernel(p, "rb_eye_hits");
+  eye_ = cl::Kernel(p, "rb_eye");
+
+  elements_ = upload_buffer(device, "bundle elements", geometry.elements);
+  patch_element_ = upload_buffer(device, "patch elements", geometry.patch_element);
+  e_in_ = make_buffer(device, "patch irradiance", CL_MEM_READ_WRITE, patch_count_ * sizeof(cl_float4));
+  l_out_ = make_buffer(device, "patch outgoing radiance", CL_MEM_READ_WRITE, patch_count_ * sizeof(cl_float4));
+  fragment_counts_ = make_buffer(device, "fragment counts", CL_MEM_READ_WRITE, element_count_ * sizeof(cl_uint));
+  fragment_offsets_ =
+      make_buffer(device, "fragment offsets", CL_MEM_READ_WRITE, (element_count_ + 1) * sizeof(cl_uint));
+  bin_counts_ = make_buffer(device, "bin counts", CL_MEM_READ_WRITE, bin_count_ * sizeof(cl_uint));
+  bin_start_ = make_buffer(device, "bin starts", CL_MEM_READ_WRITE, (bin_count_ + 1) * sizeof(cl_uint));
+  bin_cursor_ = make_buffer(device, "bin cursors", CL_MEM_READ_WRITE, (bin_count_ + 1) * sizeof(cl_uint));
+  eye_hits_buffer_ = make_buffer(device, "eye hits", CL_MEM_READ_WRITE, pixel_count_ * sizeof(EyeHit));
+  pixel_sum_ = make_buffer(device, "eye estimate sums", CL_MEM_READ_WRITE, pixel_count_ * sizeof(cl_float4));
+  device.queue.enqueueFillBuffer(e_in_, cl_float4{{0, 0, 0, 0}}, 0, patch_count_ * sizeof(cl_float4));
+  device.queue.enqueueFillBuffer(pixel_sum_, cl_float4{{0, 0, 0, 0}}, 0, pixel_count_ * sizeof(cl_float4));
+  ensure_fragment_capacity(std::size_t(1.5 * expected_fragments(geometry, bins_)) + element_count_ + 1024);
+  host_pixel_sum_.resize(pixel_count_);
+}
+
+void RayBundlePass::ensure_fragment_capacity(std::size_t fragments) {
+  if (fragments <= fragment_capacity_) return;
+  std::size_t n = std::max(fragments, fragment_capacity_ + fragment_capacity_ / 4);
+  fragment_bin_ = make_buffer(device_, "fragment bins", CL_MEM_READ_WRITE, n * sizeof(cl_uint));
+  fragment_depth_ = make_buffer(device_, "fragment depths", CL_MEM_READ_WRITE, n * sizeof(cl_float));
+  fragment_element_ = make_buffer(device_, "fragment elements", CL_MEM_READ_WRITE, n * sizeof(cl_uint));
+  sorted_slots_ = make_buffer(device_, "sorted fragments", CL_MEM_READ_WRITE, n * sizeof(cl_uint));
+  received_minus_ = make_buffer(device_, "received radiance (-omega side)", CL_MEM_READ_WRITE, n * sizeof(cl_float4));
+  received_plus_ = make_buffer(device_, "received radiance (+omega side)", CL_MEM_READ_WRITE, n * sizeof(cl_float4));
+  fragment_capacity_ = n;
+}
+
+BundleIteration RayBundlePass::iteration_params(std::uint64_t iteration) const {
+  auto direction = [&](std::uint64_t i, float* rotation, float* ou, float* ov) {
+    Rng rng = rng_init(settings_.seed, kDirectionStream, std::uint32_t(i));
+    float u1 = rng_uniform(&rng), u2 = rng_uniform(&rng);
+    if (rotation) *rotation = BP_TWO_PI * rng_uniform(&rng);
+    if (ou) *ou = rng_uniform(&rng);
+    if (ov) *ov = rng_uniform(&rng);
+    float z = 1.0f - 2.0f * u1, s = std::sqrt(std::max(0.0f, 1.0f - z * z)), phi = BP_TWO_PI * u2;
+    return make_float3(s * std::cos(phi), s * std::sin(phi), z);  // uniform on the sphere
+  };
+  BundleIteration it{};
+  float rotation = 0, ou = 0, ov = 0;
+  float3 omega = direction(iteration, &rotation, &ou, &ov);
+  float3 prev = iteration > 0 ? direction(iteration - 1, nullptr, nullptr, nullptr) : omega;
+  Frame f = frame_from_normal(omega);
+  float3 u = f.t * std::cos(rotation) + f.b * std::sin(rotation);
+  float3 v = cross(omega, u);
+  const float3 vectors[4] = {omega, u, v, prev};
+  float* targets[4] = {it.omega, it.axis_u, it.axis_v, it.omega_prev};
+  for (int k = 0; k < 4; ++k) {
+    targets[k][0] = vectors[k].x;
+    targets[k][1] = vectors[k].y;
+    targets[k][2] = vectors[k].z;
+  }
+  for (int c = 0; c < 3; ++c) it.centre[c] = centre_[c];
+  it.bin_size = 2.0f * radius_ / float(bins_);
+  it.offset_u = ou;
+  it.offset_v = ov;
+  it.bins_per_side = bins_ + 1;
+  it.fragment_capacity = cl_uint(fragment_capacity_);
+  return it;
+}
+
+std::uint64_t RayBundlePass::iterate(std::uint64_t iteration) {
+  BundleIteration it = iteration_params(iteration);
+  const cl_uint patches = as_uint(patch_count_), elements = as_uint(element_count_);
+
+  outgoing_.setArg(0, elements_);
+  outgoing_.setArg(1, patch_element_);
+  outgoing_.setArg(2, scene_.materials);
+  outgoing_.setArg(3, e_in_);
+  outgoing_.setArg(4, it);
+  outgoing_.setArg(5, patches);
+  outgoing_.setArg(6, l_out_);
+  launcher_.launch("rb_outgoing", outgoing_, patch_count_, 64);
+
+  count_.setArg(0, elements_);
+  count_.setArg(1, it);
+  count_.setArg(2, elements);
+  count_.setArg(3, fragment_counts_);
+  launcher_.launch("rb_count", count_, element_count_, 64);
+  scan_.exclusive(launcher_, fragment_counts_, element_count_, fragment_offsets_);
+  cl_uint fragments = 0;
+  device_.queue.enqueueReadBuffer(fragment_offsets_, CL_TRUE, element_count_ * sizeof(cl_uint), sizeof(cl_uint),
+                                  &fragments);
+  ensure_fragment_capacity(fragments);
+
+  emit_.setArg(0, elements_);
+  emit_.setArg(1, it);
+  emit_.setArg(2, elements);
+  emit_.setArg(3, fragment_offsets_);
+  emit_.setArg(4, fragment_bin_);
+  emit_.setArg(5, fragment_depth_);
+  emit_.setArg(6, fragment_element_);
+  launcher_.launch("rb_emit", emit_, element_count_, 64);
+
+  device_.queue.enqueueFillBuffer(bin_counts_, cl_uint(0), 0, bin_count_ * sizeof(cl_uint));
+  bin_count_kernel_.setArg(0, fragment_bin_);
+  bin_count_kernel_.setArg(1, fragments);
+  bin_count_kernel_.setArg(2, bin_counts_);
+  launcher_.launch("rb_bin_count", bin_count_kernel_, fragments, 64);
+  scan_.exclusive(launcher_, bin_counts_, bin_count_, bin_start_);
+  device_.queue.enqueueCopyBuffer(bin_start_, bin_cursor_, 0, 0, (bin_count_ + 1) * sizeof(cl_uint));
+  bin_scatter_.setArg(0, fragment_bin_);
+  bin_scatter_.setArg(1, fragments);
+  bin_scatter_.setArg(2, bin_cursor_);
+  bin_scatter_.setArg(3, sorted_slots_);
+  launcher_.launch("rb_bin_scatter", bin_scatter_, fragments, 64);
+
+  transfer_.setArg(0, elements_);
+  transfer_.setArg(1, fragment_depth_);
+  transfer_.setArg(2, fragment_element_);
+  transfer_.setArg(3, bin_start_);
+  transfer_.setArg(4, sorted_slots_);
+  transfer_.setArg(5, l_out_);
+  transfer_.setArg(6, it);
+  transfer_.setArg(7, as_uint(bin_count_));
+  transfer_.setArg(8, received_minus_);
+  transfer_.setArg(9, received_plus_);
+  launcher_.launch("rb_transfer", transfer_, bin_count_, 64);
+
+  gather_.setArg(0, elements_);
+  gather_.setArg(1, fragment_offsets_);
+  gather_.setArg(2, fragment_counts_);
+  gather_.setArg(3, received_minus_);
+  gather_.setArg(4, received_plus_);
+  gather_.setArg(5, it);
+  gather_.setArg(6, elements);
+  gather_.setArg(7, e_in_);
+  launcher_.launch("rb_gather", gather_, element_count_, 64);
+  return fragments;
+}
+
+BatchCounts RayBundlePass::run(std::uint64_t first, std::uint32_t count, Accumulator& accum) {
+  BatchCounts counts;
+  if (!warmed_up_) {
+    for (std::uint32_t w = 0; w < settings_.warmup; ++w) counts.fragments += iterate(w);
+    warmed_up_ = true;
+  }
+  for (std::uint32_t k = 0; k < count; ++k) {
+    const std::uint64_t iteration = settings_.warmup + first + k;
+    counts.fragments += iterate(iteration);
+    if (eye_rounds_ % settings_.jitter_refresh == 0) {
+      eye_hits_.setArg(0, scene_.nodes);
+      eye_hits_.setArg(1, scene_.triangles);
+      eye_hits_.setArg(2, scene_.shading);
+      eye_hits_.setArg(3, scene_.materials);
+      eye_hits_.setArg(4, camera_);
+      eye_hits_.setArg(5, settings_.seed ^ 0x5eed0e7eu);
+      eye_hits_.setArg(6, cl_uint(eye_rounds_ / settings_.jitter_refresh));
+      eye_hits_.setArg(7, eye_hits_buffer_);
+      launcher_.launch("rb_eye_hits", eye_hits_, pixel_count_, 64);
+      counts.rays += pixel_count_;
+    }
+    ++eye_rounds_;
+    BundleIteration it = iteration_params(iteration);
+    eye_.setArg(0, eye_hits_buffer_);
+    eye_.setArg(1, elements_);
+    eye_.setArg(2, patch_element_);
+    eye_.setArg(3, scene_.materials);
+    eye_.setArg(4, e_in_);
+    eye_.setArg(5, it);
+    eye_.setArg(6, as_uint(pixel_count_));
+    eye_.setArg(7, pixel_sum_);
+    launcher_.launch("rb_eye", eye_, pixel_count_, 64);
+  }
+  launcher_.finish();
+  device_.queue.enqueueReadBuffer(pixel_sum_, CL_TRUE, 0, pixel_count_ * sizeof(cl_float4), host_pixel_sum_.data());
+  device_.queue.enqueueFillBuffer(pixel_sum_, cl_float4{{0, 0, 0, 0}}, 0, pixel_count_ * sizeof(cl_float4));
+  for (std::size_t i = 0; i < pixel_count_; ++i) {
+    const cl_float4& s = host_pixel_sum_[i];
+    for (int c = 0; c < 3; ++c) {
+      if (std::isfinite(s.s[c])) accum.sum[i * 3 + c] += double(s.s[c]);
+      else ++counts.nonfinite_samples;
+    }
+  }
+  accum.samples_per_pixel += count;
+  return counts;
+}
+
+namespace {
+template <class T>
+std::vector<T> read_all(const DeviceContext& device, Launcher& launcher, const cl::Buffer& buffer, std::size_t n) {
+  launcher.finish();
+  std::vector<T> out(n);
+  if (n) device.queue.enqueueReadBuffer(buffer, CL_TRUE, 0, n * sizeof(T), out.data());
+  return out;
+}
+}  // namespace
+
+std::vector<cl_float4> RayBundlePass::read_patch_irradiance() {
+  return read_all<cl_float4>(device_, launcher_, e_in_, patch_count_);
+}
+
+std::vector<cl_float4> RayBundlePass::read_patch_outgoing() {
+  return read_all<cl_float4>(device_, launcher_, l_out_, patch_count_);
+}
+
+std::vector<cl_uint> RayBundlePass::read_fragment_counts() {
+  return read_all<cl_uint>(device_, launcher_, fragment_counts_, element_count_);
+}
+
+}  // namespace bp

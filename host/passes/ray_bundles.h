@@ -1,0 +1,85 @@
+// Driver of global ray-bundle iteration (kernels/bundle.cl, DESIGN.md §4): one random direction per
+// iteration, radiance of every patch moved one bounce along it through the software
+// transillumination buffer, and the eye estimate of each iteration added to the image.
+#pragma once
+#include "device/device_scan.h"
+#include "device/device_scene.h"
+#include "device/program_cache.h"
+#include "passes/pass.h"
+#include "scene/bundle_geometry.h"
+
+#include <cstdint>
+#include <string>
+
+namespace bp {
+
+struct RayBundleSettings {
+  std::uint32_t seed = 1;
+  std::uint32_t bins = 0;             // R: bins per side of the transillumination buffer; 0 = default_bins
+  std::uint32_t warmup = 0;           // iterations run before the first eye estimate is kept
+  std::uint32_t jitter_refresh = 16;  // iterations between new jittered primary hits per pixel
+};
+
+// Bins per side so that an element of average area covers `bins_per_element` bins on average
+// (its mean projected area is half its area, over directions uniform on the sphere).
+std::uint32_t default_bins(const BundleGeometry& geometry, double bins_per_element = 4.0);
+
+// Expected fragments per iteration: sum of projected areas over the bin area, exact in expectation.
+double expected_fragments(const BundleGeometry& geometry, std::uint32_t bins);
+
+// Device memory the pass will allocate, for the check before allocating.
+std::size_t estimate_bundle_memory(const BundleGeometry& geometry, std::uint32_t bins, std::size_t pixels);
+
+// Throws std::invalid_argument naming --bins / --patch-size when the estimate does not fit the device.
+void check_bundle_memory(const DeviceInfo& device, const BundleGeometry& geometry, std::uint32_t bins,
+                         std::size_t pixels);
+
+class RayBundlePass : public ProgressivePass {
+ public:
+  RayBundlePass(const DeviceContext& device, const DeviceScene& scene, const BundleGeometry& geometry,
+                const CameraParams& camera, const RayBundleSettings& settings);
+
+  // Iterations [first, first + count) (after the warm-up, run on the first call).
+  BatchCounts run(std::uint64_t first, std::uint32_t count, Accumulator& accum) override;
+  std::uint32_t max_batch() const override { return 64; }
+  const Launcher& launcher() const override { return launcher_; }
+  const BuiltProgram& program() const override { return program_; }
+  std::uint32_t bins() const { return bins_; }
+  std::uint32_t pixel_width() const { return camera_.width; }
+  std::uint32_t pixel_height() const { return camera_.height; }
+
+  // One iteration without an eye estimate (the warm-up, and tests that read patch radiance).
+  std::uint64_t iterate(std::uint64_t iteration);
+  // E_in = L_in cos(theta_in) of every patch after the last iteration (RGBA).
+  std::vector<cl_float4> read_patch_irradiance();
+  // L_out of every patch in the last iteration, and the bins each element covered (for tests).
+  std::vector<cl_float4> read_patch_outgoing();
+  std::vector<cl_uint> read_fragment_counts();
+  // This iteration's direction and grid (a pure function of seed and iteration).
+  BundleIteration iteration_params(std::uint64_t iteration) const;
+
+ private:
+  void ensure_fragment_capacity(std::size_t fragments);
+
+  const DeviceContext& device_;
+  const DeviceScene& scene_;
+  RayBundleSettings settings_;
+  CameraParams camera_;
+  std::uint32_t bins_;
+  std::size_t element_count_, patch_count_, pixel_count_, bin_count_;
+  glm::vec3 centre_;
+  float radius_;
+  BuiltProgram program_;
+  Launcher launcher_;
+  DeviceScan scan_;
+  cl::Kernel outgoing_, count_, emit_, bin_count_kernel_, bin_scatter_, transfer_, gather_, eye_hits_, eye_;
+  cl::Buffer elements_, patch_element_, e_in_, l_out_, fragment_counts_, fragment_offsets_;
+  cl::Buffer bin_counts_, bin_start_, bin_cursor_, eye_hits_buffer_, pixel_sum_;
+  cl::Buffer fragment_bin_, fragment_depth_, fragment_element_, sorted_slots_, received_minus_, received_plus_;
+  std::size_t fragment_capacity_ = 0;
+  bool warmed_up_ = false;
+  std::uint64_t eye_rounds_ = 0;  // eye estimates so far (drives the jitter refresh)
+  std::vector<cl_float4> host_pixel_sum_;
+};
+
+}  // namespace bp

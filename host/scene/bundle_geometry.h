@@ -1,0 +1,26 @@
+// The geometry the ray-bundle pass needs (DESIGN.md §4): every sub-triangle of the patch grid as an
+// element with its corners, normal, area and the patches of its two sides.
+#pragma once
+#include "kernels/shared/bundle_types.h"
+#include "scene/patches.h"
+#include "scene/scene.h"
+#include <cstdint>
+#include <vector>
+
+namespace bp {
+
+// Top bit of patch_element: the patch is the back side of its element.
+constexpr std::uint32_t kBackSidePatch = 0x80000000u;
+
+struct BundleGeometry {
+  std::vector<BundleElement> elements;       // triangle t's elements start at first_element[t]
+  std::vector<std::uint32_t> first_element;  // per triangle
+  std::vector<std::uint32_t> patch_element;  // per patch: its element, | kBackSidePatch for a back side
+  double element_area = 0.0;                 // sum of element areas (each surface counted once), m^2
+  glm::vec3 centre{0.0f};                    // bounding sphere of the scene
+  float radius = 0.0f;
+};
+
+BundleGeometry build_bundle_geometry(const Scene& scene, const PatchLayout& patches);
+
+}  // namespace bp

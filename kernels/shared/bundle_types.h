@@ -1,0 +1,46 @@
+// Structs of the ray-bundle pass (DESIGN.md §4), shared by host and device. Float arrays only.
+#ifndef BP_SHARED_BUNDLE_TYPES_H
+#define BP_SHARED_BUNDLE_TYPES_H
+#include "shared/compat.h"
+
+#define BP_NO_PATCH 0xffffffffu
+
+// An element: one sub-triangle of the patch grid (kernels/shared/patch.h), i.e. one physical piece of
+// surface. Its front side is patch front_patch; its back side is back_patch for double-sided
+// materials, else BP_NO_PATCH (the back is black and only occludes).
+typedef struct {
+  float v0[3];
+  bp_u32 front_patch;
+  float e1[3];          // v1 - v0
+  bp_u32 back_patch;
+  float e2[3];          // v2 - v0
+  float area;           // m^2
+  float normal[3];      // unit normal of the front side
+  bp_u32 material;
+} BundleElement;
+
+// Everything that changes per iteration: the direction, the random bin grid, and the previous
+// direction whose incoming radiance is reflected now.
+typedef struct {
+  float omega[3];         // this iteration's direction (used as +omega and -omega)
+  float bin_size;         // metres
+  float axis_u[3];        // bin-plane axes, perpendicular to omega, randomly rotated about it
+  float offset_u;         // random sub-bin offset in [0, 1)
+  float axis_v[3];
+  float offset_v;
+  float centre[3];        // centre of the scene's bounding sphere
+  bp_u32 bins_per_side;   // R + 1 (the offset grid needs one more bin than R to cover the sphere)
+  float omega_prev[3];    // previous iteration's direction (its incoming radiance is reflected now)
+  bp_u32 fragment_capacity;
+} BundleIteration;
+
+// One cached primary hit per pixel: the patch the eye sees and where on its triangle.
+typedef struct {
+  bp_u32 patch;           // BP_NO_PATCH: the ray left the scene or hit a black back side
+  bp_u32 element;
+  float b1, b2;           // barycentrics on the parent triangle (for Gouraud interpolation)
+  float wo[3];            // towards the eye
+  float pad0;
+} EyeHit;
+
+#endif  // BP_SHARED_BUNDLE_TYPES_H
