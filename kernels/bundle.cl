@@ -175,7 +175,7 @@ __kernel void rb_eye_hits(__global const BvhNode* nodes, __global const BvhTrian
   EyeHit out;
   out.patch = BP_NO_PATCH;
   out.element = 0u;
-  out.b1 = out.b2 = 0.0f;
+  out.l1 = out.l2 = 0.0f;
   out.wo[0] = -dir.x; out.wo[1] = -dir.y; out.wo[2] = -dir.z;
   out.pad0 = 0.0f;
   Hit hit;
@@ -185,19 +185,37 @@ __kernel void rb_eye_hits(__global const BvhNode* nodes, __global const BvhTrian
       __global const TriangleShading* t = &shading[hit.triangle];
       out.patch = s.patch;
       out.element = t->first_element + patch_local_index(hit.b1, hit.b2, t->patch_subdiv);
-      out.b1 = hit.b1;
-      out.b2 = hit.b2;
+      patch_local_barycentrics(hit.b1, hit.b2, t->patch_subdiv, &out.l1, &out.l2);
     }
   }
   hits[pixel] = out;
 }
 
+// Gouraud vertices: the area-weighted mean E_in of the patches around each welded corner.
+__kernel void rb_vertex(__global const uint* vertex_patch_start, __global const uint* vertex_patches,
+                        __global const BundleElement* elements, __global const uint* patch_element,
+                        __global const float4* e_in, const uint vertices, __global float4* e_vertex) {
+  uint v = (uint)get_global_id(0);
+  if (v >= vertices) return;
+  float4 sum = (float4)(0.0f);
+  float area = 0.0f;
+  for (uint k = vertex_patch_start[v]; k < vertex_patch_start[v + 1]; ++k) {
+    uint p = vertex_patches[k];
+    float a = elements[patch_element[p] & ~BP_BACK_SIDE].area;
+    sum += e_in[p] * a;
+    area += a;
+  }
+  e_vertex[v] = area > 0.0f ? sum / area : (float4)(0.0f);
+}
+
 // 7. Eye estimate of this iteration: the primary hit reflects its patch's incoming radiance towards
 //    the eye, Le + 2 pi f(w_in -> w_view) cos(theta_in) L_in, added to the pixel's running sum.
+//    E_in is the patch's own (flat) or interpolated from its corners' vertices (Gouraud).
 __kernel void rb_eye(__global const EyeHit* hits, __global const BundleElement* elements,
                      __global const uint* patch_element, __global const Material* materials,
-                     __global const float4* e_in, const BundleIteration it, const uint pixels,
-                     __global float4* pixel_sum) {
+                     __global const float4* e_in, __global const uint* patch_vertices,
+                     __global const float4* e_vertex, const uint gouraud, const BundleIteration it,
+                     const uint pixels, __global float4* pixel_sum) {
   uint pixel = (uint)get_global_id(0);
   if (pixel >= pixels) return;
   EyeHit h = hits[pixel];
@@ -207,7 +225,13 @@ __kernel void rb_eye(__global const EyeHit* hits, __global const BundleElement* 
   Bsdf bsdf = bsdf_from_material(&materials[elements[pe & ~BP_BACK_SIDE].material]);
   float3 wo = make_float3(h.wo[0], h.wo[1], h.wo[2]);
   float3 wi = facing(n, bp_private3(it.omega));
-  float4 e = e_in[h.patch];
+  float4 e;
+  if (gouraud) {
+    __global const uint* pv = &patch_vertices[3 * h.patch];
+    e = e_vertex[pv[0]] * (1.0f - h.l1 - h.l2) + e_vertex[pv[1]] * h.l1 + e_vertex[pv[2]] * h.l2;
+  } else {
+    e = e_in[h.patch];
+  }
   float3 l = bsdf.emission + bsdf_eval(&bsdf, n, wi, wo) * make_float3(e.x, e.y, e.z) * BP_TWO_PI;
   pixel_sum[pixel] += (float4)(l.x, l.y, l.z, 0.0f);
 }

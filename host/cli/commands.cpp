@@ -90,6 +90,8 @@ int run_render(const RenderOptions& o) {
   }
 
   install_interrupt_handlers();
+  std::fprintf(stderr, "bundlepath: rendering %s (%dx%d, %s, %zu triangles, %u patches) on %s\n", o.scene.c_str(), width,
+               height, o.mode.c_str(), scene.triangles.size(), patches.patch_count, device.description().c_str());
   Accumulator accum(width, height);
   ProgressBar bar(o.mode);
   const double pixels = double(width) * height;

@@ -79,10 +79,16 @@ RayBundlePass::RayBundlePass(const DeviceContext& device, const DeviceScene& sce
   transfer_ = cl::Kernel(p, "rb_transfer");
   gather_ = cl::Kernel(p, "rb_gather");
   eye_hits_ = cl::Kernel(p, "rb_eye_hits");
+  vertex_ = cl::Kernel(p, "rb_vertex");
   eye_ = cl::Kernel(p, "rb_eye");
 
   elements_ = upload_buffer(device, "bundle elements", geometry.elements);
   patch_element_ = upload_buffer(device, "patch elements", geometry.patch_element);
+  vertex_count_ = geometry.vertex_patch_start.empty() ? 0 : geometry.vertex_patch_start.size() - 1;
+  patch_vertices_ = upload_buffer(device, "patch vertices", geometry.patch_vertices);
+  vertex_patch_start_ = upload_buffer(device, "vertex patch offsets", geometry.vertex_patch_start);
+  vertex_patches_ = upload_buffer(device, "vertex patches", geometry.vertex_patches);
+  e_vertex_ = make_buffer(device, "vertex irradiance", CL_MEM_READ_WRITE, vertex_count_ * sizeof(cl_float4));
   e_in_ = make_buffer(device, "patch irradiance", CL_MEM_READ_WRITE, patch_count_ * sizeof(cl_float4));
   l_out_ = make_buffer(device, "patch outgoing radiance", CL_MEM_READ_WRITE, patch_count_ * sizeof(cl_float4));
   fragment_counts_ = make_buffer(device, "fragment counts", CL_MEM_READ_WRITE, element_count_ * sizeof(cl_uint));
@@ -237,14 +243,27 @@ BatchCounts RayBundlePass::run(std::uint64_t first, std::uint32_t count, Accumul
     }
     ++eye_rounds_;
     BundleIteration it = iteration_params(iteration);
+    if (settings_.gouraud) {
+      vertex_.setArg(0, vertex_patch_start_);
+      vertex_.setArg(1, vertex_patches_);
+      vertex_.setArg(2, elements_);
+      vertex_.setArg(3, patch_element_);
+      vertex_.setArg(4, e_in_);
+      vertex_.setArg(5, as_uint(vertex_count_));
+      vertex_.setArg(6, e_vertex_);
+      launcher_.launch("rb_vertex", vertex_, vertex_count_, 64);
+    }
     eye_.setArg(0, eye_hits_buffer_);
     eye_.setArg(1, elements_);
     eye_.setArg(2, patch_element_);
     eye_.setArg(3, scene_.materials);
     eye_.setArg(4, e_in_);
-    eye_.setArg(5, it);
-    eye_.setArg(6, as_uint(pixel_count_));
-    eye_.setArg(7, pixel_sum_);
+    eye_.setArg(5, patch_vertices_);
+    eye_.setArg(6, e_vertex_);
+    eye_.setArg(7, cl_uint(settings_.gouraud ? 1 : 0));
+    eye_.setArg(8, it);
+    eye_.setArg(9, as_uint(pixel_count_));
+    eye_.setArg(10, pixel_sum_);
     launcher_.launch("rb_eye", eye_, pixel_count_, 64);
   }
   launcher_.finish();

@@ -18,6 +18,7 @@ struct RayBundleSettings {
   std::uint32_t bins = 0;             // R: bins per side of the transillumination buffer; 0 = default_bins
   std::uint32_t warmup = 0;           // iterations run before the first eye estimate is kept
   std::uint32_t jitter_refresh = 16;  // iterations between new jittered primary hits per pixel
+  bool gouraud = true;                // interpolate E_in across patches in the eye estimate
 };
 
 // Bins per side so that an element of average area covers `bins_per_element` bins on average
@@ -72,8 +73,10 @@ class RayBundlePass : public ProgressivePass {
   BuiltProgram program_;
   Launcher launcher_;
   DeviceScan scan_;
-  cl::Kernel outgoing_, count_, emit_, bin_count_kernel_, bin_scatter_, transfer_, gather_, eye_hits_, eye_;
+  cl::Kernel outgoing_, count_, emit_, bin_count_kernel_, bin_scatter_, transfer_, gather_, eye_hits_, vertex_, eye_;
   cl::Buffer elements_, patch_element_, e_in_, l_out_, fragment_counts_, fragment_offsets_;
+  cl::Buffer patch_vertices_, vertex_patch_start_, vertex_patches_, e_vertex_;
+  std::size_t vertex_count_;
   cl::Buffer bin_counts_, bin_start_, bin_cursor_, eye_hits_buffer_, pixel_sum_;
   cl::Buffer fragment_bin_, fragment_depth_, fragment_element_, sorted_slots_, received_minus_, received_plus_;
   std::size_t fragment_capacity_ = 0;

@@ -1,7 +1,65 @@
 #include "scene/bundle_geometry.h"
 #include "kernels/shared/patch.h"
 
+#include <cmath>
+#include <unordered_map>
+
 namespace bp {
+
+namespace {
+
+// Corners are welded when position (to 1e-6 of the scene), facing normal (to 1e-4) and material agree.
+struct CornerKey {
+  std::int64_t p[3];
+  std::int32_t n[3];
+  std::uint32_t material;
+  bool operator==(const CornerKey&) const = default;
+};
+
+struct CornerKeyHash {
+  std::size_t operator()(const CornerKey& k) const {
+    std::uint64_t h = 0xcbf29ce484222325ull;
+    auto mix = [&](std::uint64_t v) { h = (h ^ v) * 0x100000001b3ull; };
+    for (auto v : k.p) mix(std::uint64_t(v));
+    for (auto v : k.n) mix(std::uint64_t(std::uint32_t(v)));
+    mix(k.material);
+    return std::size_t(h);
+  }
+};
+
+void weld_vertices(const Scene& scene, BundleGeometry& g) {
+  const double quantum = std::max(1e-6 * double(glm::length(scene.bounds.extent())), 1e-12);
+  std::unordered_map<CornerKey, std::uint32_t, CornerKeyHash> ids;
+  std::vector<std::uint32_t> vertex_of_slot;
+  g.patch_vertices.assign(g.patch_element.size() * 3, 0u);
+  for (std::size_t p = 0; p < g.patch_element.size(); ++p) {
+    const BundleElement& el = g.elements[g.patch_element[p] & ~kBackSidePatch];
+    const float side = (g.patch_element[p] & kBackSidePatch) ? -1.0f : 1.0f;
+    const glm::vec3 v0(el.v0[0], el.v0[1], el.v0[2]), e1(el.e1[0], el.e1[1], el.e1[2]), e2(el.e2[0], el.e2[1], el.e2[2]);
+    const glm::vec3 corners[3] = {v0, v0 + e1, v0 + e2};
+    for (int c = 0; c < 3; ++c) {
+      CornerKey key{};
+      for (int i = 0; i < 3; ++i) {
+        key.p[i] = std::llround(double(corners[c][i]) / quantum);
+        key.n[i] = std::int32_t(std::lround(side * el.normal[i] * 1e4));
+      }
+      key.material = el.material;
+      auto [it, inserted] = ids.try_emplace(key, std::uint32_t(ids.size()));
+      g.patch_vertices[p * 3 + c] = it->second;
+    }
+  }
+  // CSR adjacency vertex -> patches.
+  const std::size_t vertices = ids.size();
+  g.vertex_patch_start.assign(vertices + 1, 0u);
+  for (std::uint32_t v : g.patch_vertices) ++g.vertex_patch_start[v + 1];
+  for (std::size_t v = 0; v < vertices; ++v) g.vertex_patch_start[v + 1] += g.vertex_patch_start[v];
+  g.vertex_patches.assign(g.patch_vertices.size(), 0u);
+  std::vector<std::uint32_t> cursor(g.vertex_patch_start.begin(), g.vertex_patch_start.end() - 1);
+  for (std::size_t i = 0; i < g.patch_vertices.size(); ++i)
+    g.vertex_patches[cursor[g.patch_vertices[i]]++] = std::uint32_t(i / 3);
+}
+
+}  // namespace
 
 BundleGeometry build_bundle_geometry(const Scene& scene, const PatchLayout& patches) {
   BundleGeometry g;
@@ -45,6 +103,7 @@ BundleGeometry build_bundle_geometry(const Scene& scene, const PatchLayout& patc
       g.element_area += el.area;
     }
   }
+  weld_vertices(scene, g);
   g.centre = scene.bounds.centre();
   g.radius = 0.5f * glm::length(scene.bounds.extent()) * 1.001f + 1e-6f;
   return g;

@@ -16,6 +16,11 @@ struct BundleGeometry {
   std::vector<BundleElement> elements;       // triangle t's elements start at first_element[t]
   std::vector<std::uint32_t> first_element;  // per triangle
   std::vector<std::uint32_t> patch_element;  // per patch: its element, | kBackSidePatch for a back side
+  // Gouraud vertices (DESIGN.md §4): patch corners welded where patches of one material and one
+  // facing meet at the same point; a vertex holds the area-weighted mean of its patches' E_in.
+  std::vector<std::uint32_t> patch_vertices;      // 3 per patch, in the element's corner order
+  std::vector<std::uint32_t> vertex_patch_start;  // CSR: patches of vertex v are
+  std::vector<std::uint32_t> vertex_patches;      //   vertex_patches[vertex_patch_start[v] .. [v+1])
   double element_area = 0.0;                 // sum of element areas (each surface counted once), m^2
   glm::vec3 centre{0.0f};                    // bounding sphere of the scene
   float radius = 0.0f;

@@ -37,9 +37,12 @@ BP_FN Bsdf bsdf_from_material(BP_GLOBAL const Material* m) {
 // f(wi, wo) in sr^-1: kd/pi + ks (n+2)/(2 pi) cos^n alpha, alpha between wi and the mirror of wo.
 BP_FN float3 bsdf_eval(const Bsdf* b, float3 n, float3 wi, float3 wo) {
   if (dot(n, wi) <= 0.0f || dot(n, wo) <= 0.0f) return make_float3(0.0f, 0.0f, 0.0f);
-  float cos_alpha = fmax(dot(reflect_about(wo, n), wi), 0.0f);
-  float lobe = (b->shininess + 2.0f) * (0.5f * BP_INV_PI) * pow(cos_alpha, b->shininess);
-  return b->kd * BP_INV_PI + b->ks * lobe;
+  float3 f = b->kd * BP_INV_PI;
+  if (b->p_diffuse < 1.0f) {  // a specular lobe (pow is the costliest thing here: skip it for Lambert)
+    float cos_alpha = fmax(dot(reflect_about(wo, n), wi), 0.0f);
+    f += b->ks * ((b->shininess + 2.0f) * (0.5f * BP_INV_PI) * pow(cos_alpha, b->shininess));
+  }
+  return f;
 }
 
 // Diffuse lobe, cosine-weighted: pdf_uv = 2 cos(theta)   (paper §5.2).

@@ -34,11 +34,11 @@ typedef struct {
   bp_u32 fragment_capacity;
 } BundleIteration;
 
-// One cached primary hit per pixel: the patch the eye sees and where on its triangle.
+// One cached primary hit per pixel: the patch the eye sees and where on it.
 typedef struct {
   bp_u32 patch;           // BP_NO_PATCH: the ray left the scene or hit a black back side
   bp_u32 element;
-  float b1, b2;           // barycentrics on the parent triangle (for Gouraud interpolation)
+  float l1, l2;           // barycentrics within the element (weights of its corners 1 and 2)
   float wo[3];            // towards the eye
   float pad0;
 } EyeHit;

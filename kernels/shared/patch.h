@@ -18,6 +18,24 @@ BP_FN bp_u32 patch_local_index(float b1, float b2, bp_u32 k) {
   return (bp_u32)row * (2u * k - (bp_u32)row) + 2u * (bp_u32)col + upper;
 }
 
+// Barycentrics (l1, l2) within the sub-triangle that contains (b1, b2) on the parent triangle,
+// relative to the corners that patch_corner_barycentrics gives.
+BP_FN void patch_local_barycentrics(float b1, float b2, bp_u32 k, float* l1, float* l2) {
+  bp_u32 local_index = patch_local_index(b1, b2, k);
+  bp_u32 row = 0u;
+  while ((row + 1u) * (2u * k - row - 1u) <= local_index) ++row;
+  bp_u32 in_row = local_index - row * (2u * k - row);
+  float c = (float)(in_row / 2u), r = (float)row;
+  float u = b1 * (float)k, v = b2 * (float)k;
+  if (in_row % 2u == 0u) {        // corners (c, r), (c+1, r), (c, r+1)
+    *l1 = u - c;
+    *l2 = v - r;
+  } else {                        // corners (c+1, r), (c+1, r+1), (c, r+1)
+    *l2 = c + 1.0f - u;
+    *l1 = v - r - *l2;
+  }
+}
+
 // Barycentrics (b1, b2) of the three corners of sub-triangle `local_index` (inverse of the above),
 // counter-clockwise like the parent triangle.
 BP_FN void patch_corner_barycentrics(bp_u32 local_index, bp_u32 k, float b1[3], float b2[3]) {

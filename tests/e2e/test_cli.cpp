@@ -116,7 +116,10 @@ TEST(Cli, SigintWritesTheSamplesDoneAndExits130) {
   std::string render = "'" + std::string(BP_BINARY) + "' render " + kScenes +
                        "cornell-box.gltf --width 64 --height 64 --spp 100000000 --out " + dir + "/i --stats " + dir +
                        "/s.json";
-  CliResult r = run_shell(render + " & pid=$!; sleep 2; kill -INT $pid; wait $pid; echo \"exit=$?\"");
+  // Interrupt once the render loop has started (its first line), with a hard bound on the child.
+  CliResult r = run_shell("timeout 120 " + render + " 2>" + dir + "/log & pid=$!; " +
+                          "for i in $(seq 600); do grep -q rendering " + dir + "/log && break; sleep 0.1; done; " +
+                          "sleep 1; kill -INT $pid; wait $pid; echo \"exit=$?\"; cat " + dir + "/log");
   EXPECT_NE(r.output.find("exit=130"), std::string::npos) << r.output;
   nlohmann::json stats = nlohmann::json::parse(std::ifstream(dir + "/s.json"));
   EXPECT_TRUE(stats["interrupted"].get<bool>());
