@@ -31,6 +31,7 @@ int main(int argc, char** argv) {
       return bp::run_devices();
     }
     if (command == "render") return bp::run_render(bp::parse_render_options(rest));
+    if (command == "compare") return bp::run_compare(rest);
     throw bp::UsageError("unknown command '" + command + "' (commands: render, devices; see --help)");
   } catch (const bp::UsageError& e) {
     std::fprintf(stderr, "bundlepath: %s\n", e.what());

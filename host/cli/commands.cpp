@@ -40,6 +40,39 @@ int run_devices() {
   return 0;
 }
 
+int run_compare(const std::vector<std::string>& args) {
+  std::vector<std::string> files;
+  std::string layer;
+  bool json = false;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    if (args[i] == "--json") json = true;
+    else if (args[i] == "--layer") {
+      if (i + 1 >= args.size()) throw UsageError("--layer: missing value");
+      layer = args[++i];
+    } else if (args[i].rfind("--", 0) == 0) throw UsageError("unknown option '" + args[i] + "' for compare");
+    else files.push_back(args[i]);
+  }
+  if (files.size() != 2) throw UsageError("usage: bundlepath compare IMAGE.exr REFERENCE.exr [--layer NAME] [--json]");
+  ImageRGB image = read_exr(files[0], layer), reference = read_exr(files[1]);
+  if (image.width != reference.width || image.height != reference.height)
+    throw UsageError(files[0] + " is " + std::to_string(image.width) + "x" + std::to_string(image.height) + " but " +
+                     files[1] + " is " + std::to_string(reference.width) + "x" + std::to_string(reference.height));
+  ErrorMetrics m = compare_images(image, reference);
+  const double level = m.reference_mean != 0.0 ? m.reference_mean : 1.0;
+  if (json) {
+    nlohmann::json out = {{"rel_mse", m.rel_mse}, {"rmse", m.rmse}, {"mean_bias", m.mean_bias},
+                          {"mean_abs_difference", m.mean_abs_difference}, {"reference_mean", m.reference_mean},
+                          {"relative_bias", m.mean_bias / level},
+                          {"relative_mean_abs_difference", m.mean_abs_difference / level}};
+    std::printf("%s\n", out.dump().c_str());
+  } else {
+    std::printf("relMSE %.4g  RMSE %.4g  bias %+.4g (%+.2f %%)  mean |difference| %.4g (%.2f %% of the mean)\n",
+                m.rel_mse, m.rmse, m.mean_bias, 100.0 * m.mean_bias / level, m.mean_abs_difference,
+                100.0 * m.mean_abs_difference / level);
+  }
+  return 0;
+}
+
 int run_render(const RenderOptions& o) {
   using clock = std::chrono::steady_clock;
   auto t_load = clock::now();
@@ -76,16 +109,18 @@ int run_render(const RenderOptions& o) {
     pass = std::make_unique<PathTracerPass>(device, device_scene, camera, ray_epsilon_for(scene.bounds), settings);
     rounds = o.spp;
   } else {
-    geometry = build_bundle_geometry(scene, patches);
+    const BundleSize size = bundle_size(scene, patches);
     RayBundleSettings settings;
     settings.seed = o.seed;
-    settings.bins = o.bins;
+    settings.bins = o.bins ? o.bins : default_bins(size);
     settings.warmup = o.warmup;
     try {
-      pass = std::make_unique<RayBundlePass>(device, device_scene, *geometry, camera, settings);
+      check_bundle_memory(device.info, size, settings.bins, std::size_t(width) * height);
     } catch (const std::invalid_argument& e) {
       throw UsageError(e.what());
     }
+    geometry = build_bundle_geometry(scene, patches);
+    pass = std::make_unique<RayBundlePass>(device, device_scene, *geometry, camera, settings);
     rounds = o.iterations;
   }
 

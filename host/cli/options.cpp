@@ -29,6 +29,8 @@ const char* main_help() {
 usage:
   bundlepath render SCENE.gltf|SCENE.glb [options]   render an image (see `bundlepath render --help`)
   bundlepath devices                                 list OpenCL platforms and devices with their index
+  bundlepath compare IMAGE.exr REFERENCE.exr         relMSE, RMSE and bias of IMAGE against REFERENCE
+             [--layer NAME] [--json]
   bundlepath --help | --version
 
 exit codes: 0 done; 1 device or I/O failure; 2 bad command line or no OpenCL platform;

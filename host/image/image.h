@@ -41,6 +41,8 @@ struct ErrorMetrics {
   double rel_mse = 0.0;  // mean((I-R)^2 / (R^2 + 0.01)) over pixels and channels
   double rmse = 0.0;
   double mean_bias = 0.0;  // mean(I) - mean(R)
+  double mean_abs_difference = 0.0;  // mean(|I - R|)
+  double reference_mean = 0.0;       // mean(R), to state the others relative to the image level
 };
 // Throws std::invalid_argument if the sizes differ.
 ErrorMetrics compare_images(const ImageRGB& image, const ImageRGB& reference);

@@ -17,40 +17,45 @@ cl_uint as_uint(std::size_t v) { return cl_uint(v); }
 
 }  // namespace
 
-std::uint32_t default_bins(const BundleGeometry& g, double bins_per_element) {
-  if (g.elements.empty()) return 1;
-  double mean_projected = 0.5 * g.element_area / double(g.elements.size());
+std::uint32_t default_bins(const BundleSize& size, double bins_per_element) {
+  if (size.elements == 0) return 16;
+  double mean_projected = 0.5 * size.element_area / double(size.elements);
   double bin_size = std::sqrt(mean_projected / bins_per_element);
-  double r = 2.0 * g.radius / bin_size;
-  return std::uint32_t(std::clamp(std::ceil(r), 16.0, 4096.0));
+  return std::uint32_t(std::clamp(std::ceil(2.0 * size.radius / bin_size), 16.0, 4096.0));
 }
 
-double expected_fragments(const BundleGeometry& g, std::uint32_t bins) {
-  double bin_size = 2.0 * g.radius / bins;
-  return 0.5 * g.element_area / (bin_size * bin_size);
+double expected_fragments(const BundleSize& size, std::uint32_t bins) {
+  double bin_size = 2.0 * size.radius / bins;
+  return 0.5 * size.element_area / (bin_size * bin_size);
 }
 
-std::size_t estimate_bundle_memory(const BundleGeometry& g, std::uint32_t bins, std::size_t pixels) {
-  std::size_t fragments = std::size_t(1.5 * expected_fragments(g, bins)) + g.elements.size() + 1024;
+namespace {
+std::size_t fragment_allocation(const BundleSize& size, std::uint32_t bins) {
+  return std::size_t(1.5 * expected_fragments(size, bins)) + size.elements + 1024;
+}
+}  // namespace
+
+std::size_t estimate_bundle_memory(const BundleSize& size, std::uint32_t bins, std::size_t pixels) {
   std::size_t bin_cells = std::size_t(bins + 1) * (bins + 1) + 1;
-  return fragments * kFragmentBytes + bin_cells * 3 * sizeof(cl_uint) +
-         g.patch_element.size() * (sizeof(cl_uint) + 2 * sizeof(cl_float4)) +
-         g.elements.size() * (sizeof(BundleElement) + 2 * sizeof(cl_uint)) +
+  return fragment_allocation(size, bins) * kFragmentBytes + bin_cells * 3 * sizeof(cl_uint) +
+         size.patches * (4 * sizeof(cl_uint) + 2 * sizeof(cl_float4)) +
+         size.elements * (sizeof(BundleElement) + 2 * sizeof(cl_uint)) +
+         size.patches * 3 * (sizeof(cl_uint) + sizeof(cl_float4)) +  // Gouraud vertices (at most 3 per patch)
          pixels * (sizeof(EyeHit) + sizeof(cl_float4));
 }
 
-void check_bundle_memory(const DeviceInfo& device, const BundleGeometry& g, std::uint32_t bins, std::size_t pixels) {
-  std::size_t need = estimate_bundle_memory(g, bins, pixels);
-  std::size_t fragments = std::size_t(1.5 * expected_fragments(g, bins)) + g.elements.size() + 1024;
-  std::size_t largest = std::max<std::size_t>(fragments * sizeof(cl_float4), std::size_t(bins + 1) * (bins + 1) * 4);
+void check_bundle_memory(const DeviceInfo& device, const BundleSize& size, std::uint32_t bins, std::size_t pixels) {
+  const std::size_t need = estimate_bundle_memory(size, bins, pixels);
+  const std::size_t largest =
+      std::max(fragment_allocation(size, bins) * sizeof(cl_float4), std::size_t(bins + 1) * (bins + 1) * 4);
   // Leave a quarter of the device for the scene, the path tracer and the driver.
   if (need > device.global_memory_bytes / 4 * 3 || largest > device.max_alloc_bytes)
     throw std::invalid_argument(
         "the ray-bundle pass needs about " + std::to_string(need >> 20) + " MiB (" +
-        std::to_string(std::size_t(expected_fragments(g, bins))) + " fragments per iteration at --bins " +
-        std::to_string(bins) + ", " + std::to_string(g.patch_element.size()) + " patches), more than " +
-        device.device_name + " offers (" + std::to_string(device.global_memory_bytes >> 20) +
-        " MiB): lower --bins or raise --patch-size");
+        std::to_string(std::size_t(expected_fragments(size, bins))) + " fragments per iteration at --bins " +
+        std::to_string(bins) + ", " + std::to_string(size.patches) + " patches), more than " + device.device_name +
+        " offers (" + std::to_string(device.global_memory_bytes >> 20) + " MiB, at most " +
+        std::to_string(device.max_alloc_bytes >> 20) + " MiB per buffer): lower --bins or raise --patch-size");
 }
 
 RayBundlePass::RayBundlePass(const DeviceContext& device, const DeviceScene& scene, const BundleGeometry& geometry,
@@ -59,7 +64,9 @@ RayBundlePass::RayBundlePass(const DeviceContext& device, const DeviceScene& sce
       scene_(scene),
       settings_(settings),
       camera_(camera),
-      bins_(settings.bins ? settings.bins : default_bins(geometry)),
+      bins_(settings.bins ? settings.bins : default_bins(BundleSize{geometry.elements.size(),
+                                                                     geometry.patch_element.size(),
+                                                                     geometry.element_area, geometry.radius})),
       element_count_(geometry.elements.size()),
       patch_count_(geometry.patch_element.size()),
       pixel_count_(std::size_t(camera.width) * camera.height),
@@ -69,7 +76,6 @@ RayBundlePass::RayBundlePass(const DeviceContext& device, const DeviceScene& sce
       program_(build_program(device, "bundle.cl")),
       launcher_(device),
       scan_(device, program_.program, std::max(element_count_, bin_count_)) {
-  check_bundle_memory(device.info, geometry, bins_, pixel_count_);
   const cl::Program& p = program_.program;
   outgoing_ = cl::Kernel(p, "rb_outgoing");
   count_ = cl::Kernel(p, "rb_count");
@@ -101,7 +107,8 @@ RayBundlePass::RayBundlePass(const DeviceContext& device, const DeviceScene& sce
   pixel_sum_ = make_buffer(device, "eye estimate sums", CL_MEM_READ_WRITE, pixel_count_ * sizeof(cl_float4));
   device.queue.enqueueFillBuffer(e_in_, cl_float4{{0, 0, 0, 0}}, 0, patch_count_ * sizeof(cl_float4));
   device.queue.enqueueFillBuffer(pixel_sum_, cl_float4{{0, 0, 0, 0}}, 0, pixel_count_ * sizeof(cl_float4));
-  ensure_fragment_capacity(std::size_t(1.5 * expected_fragments(geometry, bins_)) + element_count_ + 1024);
+  ensure_fragment_capacity(fragment_allocation(
+      BundleSize{element_count_, patch_count_, geometry.element_area, geometry.radius}, bins_));
   host_pixel_sum_.resize(pixel_count_);
 }
 

@@ -23,17 +23,16 @@ struct RayBundleSettings {
 
 // Bins per side so that an element of average area covers `bins_per_element` bins on average
 // (its mean projected area is half its area, over directions uniform on the sphere).
-std::uint32_t default_bins(const BundleGeometry& geometry, double bins_per_element = 4.0);
+std::uint32_t default_bins(const BundleSize& size, double bins_per_element = 4.0);
 
 // Expected fragments per iteration: sum of projected areas over the bin area, exact in expectation.
-double expected_fragments(const BundleGeometry& geometry, std::uint32_t bins);
+double expected_fragments(const BundleSize& size, std::uint32_t bins);
 
-// Device memory the pass will allocate, for the check before allocating.
-std::size_t estimate_bundle_memory(const BundleGeometry& geometry, std::uint32_t bins, std::size_t pixels);
+// Device memory the pass will allocate (host memory alike), for the check before allocating.
+std::size_t estimate_bundle_memory(const BundleSize& size, std::uint32_t bins, std::size_t pixels);
 
 // Throws std::invalid_argument naming --bins / --patch-size when the estimate does not fit the device.
-void check_bundle_memory(const DeviceInfo& device, const BundleGeometry& geometry, std::uint32_t bins,
-                         std::size_t pixels);
+void check_bundle_memory(const DeviceInfo& device, const BundleSize& size, std::uint32_t bins, std::size_t pixels);
 
 class RayBundlePass : public ProgressivePass {
  public:

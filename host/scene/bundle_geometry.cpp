@@ -8,6 +8,8 @@ namespace bp {
 
 namespace {
 
+float bounding_radius(const Scene& scene) { return 0.5f * glm::length(scene.bounds.extent()) * 1.001f + 1e-6f; }
+
 // Corners are welded when position (to 1e-6 of the scene), facing normal (to 1e-4) and material agree.
 struct CornerKey {
   std::int64_t p[3];
@@ -61,6 +63,18 @@ void weld_vertices(const Scene& scene, BundleGeometry& g) {
 
 }  // namespace
 
+BundleSize bundle_size(const Scene& scene, const PatchLayout& patches) {
+  BundleSize size;
+  size.patches = patches.patch_count;
+  for (std::size_t t = 0; t < scene.triangles.size(); ++t) {
+    const SceneTriangle& tri = scene.triangles[t];
+    size.elements += std::size_t(patches.subdiv[t]) * patches.subdiv[t];
+    size.element_area += 0.5 * double(glm::length(glm::cross(tri.p[1] - tri.p[0], tri.p[2] - tri.p[0])));
+  }
+  size.radius = bounding_radius(scene);
+  return size;
+}
+
 BundleGeometry build_bundle_geometry(const Scene& scene, const PatchLayout& patches) {
   BundleGeometry g;
   g.patch_element.assign(patches.patch_count, 0u);
@@ -105,7 +119,7 @@ BundleGeometry build_bundle_geometry(const Scene& scene, const PatchLayout& patc
   }
   weld_vertices(scene, g);
   g.centre = scene.bounds.centre();
-  g.radius = 0.5f * glm::length(scene.bounds.extent()) * 1.001f + 1e-6f;
+  g.radius = bounding_radius(scene);
   return g;
 }
 

@@ -26,6 +26,15 @@ struct BundleGeometry {
   float radius = 0.0f;
 };
 
+// What sizes the ray-bundle pass, known before the geometry is built (so a run that cannot fit is
+// refused before anything large is allocated).
+struct BundleSize {
+  std::size_t elements = 0, patches = 0;
+  double element_area = 0.0;  // m^2, each surface once
+  float radius = 0.0f;        // of the scene's bounding sphere
+};
+BundleSize bundle_size(const Scene& scene, const PatchLayout& patches);
+
 BundleGeometry build_bundle_geometry(const Scene& scene, const PatchLayout& patches);
 
 }  // namespace bp

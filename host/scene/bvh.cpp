@@ -12,7 +12,7 @@
 namespace bp {
 namespace {
 
-constexpr int kBins = 32;
+constexpr int kBins = 16;
 constexpr std::uint32_t kMaxLeaf = 4;
 // SAH costs of one node visit and one triangle test. A 4-wide node test costs about one
 // triangle test, and the collapse removes every other binary level.

@@ -16,6 +16,14 @@ BP_FN bp_u32 bp_mulhi(bp_u32 a, bp_u32 b) { return mul_hi(a, b); }
 #define BP_FLOAT_MAX FLT_MAX
 #define BP_ISFINITE(x) isfinite(x)
 #define BP_ALIGN(n) __attribute__((aligned(n)))
+// Hot helpers that must inline (PoCL otherwise keeps some as calls, with their arrays in memory).
+#define BP_INLINE static inline __attribute__((always_inline))
+// Prefetch of one cache line; PoCL's prefetch() builtin does nothing, clang's builtin does.
+#ifdef __clang__
+#define BP_PREFETCH(p) __builtin_prefetch(p)
+#else
+#define BP_PREFETCH(p) prefetch((p), 1)
+#endif
 // 4-wide float (SIMD box tests in bvh.h): lanes by constant index, loads of 4 consecutive floats.
 typedef float4 bp_float4;
 #define BP_LANE(v, i) ((v).s##i)
@@ -43,6 +51,8 @@ inline bp_u32 bp_mulhi(bp_u32 a, bp_u32 b) { return bp_u32((bp_u64(a) * bp_u64(b
 #define BP_ISFINITE(x) std::isfinite(x)
 
 #define BP_ALIGN(n) alignas(n)
+#define BP_INLINE inline __attribute__((always_inline))
+#define BP_PREFETCH(p) __builtin_prefetch(p)
 // float4 as OpenCL C sees it for bvh.h's box tests: GCC/Clang vector extension, SSE on x86.
 typedef float bp_float4 __attribute__((vector_size(16)));
 #define BP_LANE(v, i) ((v)[i])

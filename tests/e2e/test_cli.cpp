@@ -45,6 +45,58 @@ TEST(Cli, UsageErrorsExitTwoAndNameTheOption) {
   }
 }
 
+TEST(Cli, RayBundleRunThatCannotFitIsRefusedBeforeAllocating) {
+  for (const std::string& args : {std::string("--bins 16000"), std::string("--patch-size 0.0003")}) {
+    CliResult r = run_cli("render " + kScenes + "cornell-box.gltf --mode rb --iterations 1 --width 8 " + args);
+    EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.output;
+    EXPECT_NE(r.output.find("lower --bins or raise --patch-size"), std::string::npos) << r.output;
+  }
+}
+
+TEST(Cli, ModeSpecificCountsAreChecked) {
+  CliResult r = run_cli("render " + kScenes + "cornell-box.gltf --mode rb --spp 4");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("--iterations"), std::string::npos) << r.output;
+  r = run_cli("render " + kScenes + "cornell-box.gltf --iterations 4");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("--spp"), std::string::npos) << r.output;
+}
+
+TEST(Cli, RayBundleRenderWritesItsStats) {
+  std::string dir = fresh_dir("rb_render");
+  CliResult r = run_cli("render " + kScenes + "cornell-box.gltf --mode rb --width 24 --height 16 --iterations 10 --out " +
+                        dir + "/rb --stats " + dir + "/s.json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  nlohmann::json stats = nlohmann::json::parse(std::ifstream(dir + "/s.json"));
+  for (const char* key : {"iterations", "patches", "bins", "fragments_per_iteration", "ms_per_iteration",
+                          "fragments_per_second"})
+    EXPECT_TRUE(stats.contains(key)) << key;
+  EXPECT_EQ(stats["iterations"], 10);
+  EXPECT_GT(stats["fragments_per_iteration"].get<double>(), 100.0);
+  EXPECT_EQ(read_exr(dir + "/rb.exr").width, 24);
+}
+
+TEST(Cli, CompareReportsMetricsAndRejectsMismatchedSizes) {
+  std::string dir = fresh_dir("compare");
+  ImageRGB a(4, 2), b(4, 2), c(3, 3);
+  for (float& v : a.rgb) v = 1.0f;
+  for (float& v : b.rgb) v = 0.5f;
+  write_exr(dir + "/a.exr", {{"", &a}});
+  write_exr(dir + "/b.exr", {{"", &b}});
+  write_exr(dir + "/c.exr", {{"", &c}});
+  CliResult r = run_cli("compare " + dir + "/a.exr " + dir + "/b.exr --json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  nlohmann::json m = nlohmann::json::parse(r.output);
+  EXPECT_NEAR(m["rel_mse"].get<double>(), 0.25 / 0.26, 1e-9);
+  EXPECT_NEAR(m["mean_bias"].get<double>(), 0.5, 1e-9);
+  r = run_cli("compare " + dir + "/a.exr " + dir + "/c.exr");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("3x3"), std::string::npos) << r.output;
+  r = run_cli("compare " + dir + "/a.exr " + dir + "/missing.exr");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("missing.exr"), std::string::npos) << r.output;
+}
+
 TEST(Cli, UnknownDeviceIsAnErrorListingDevices) {
   CliResult r = run_cli("render " + kScenes + "cornell-box.gltf --device no-such-device-xyz --spp 1");
   EXPECT_EQ(r.exit_code, 1) << r.output;

@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# RB's discretisation error on the Cornell box: --mode rb at shrinking patch sizes against a long
+# path-traced reference (cached under ~/.cache/bundlepath/references). Prints a Markdown table.
+# Usage: bench/rb_discretisation.sh [ITERATIONS] [REFERENCE_SPP]     (defaults 10000, 4096)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+iterations=${1:-10000}
+ref_spp=${2:-4096}
+scene=scenes/cornell-box.gltf
+size=128
+cache=${XDG_CACHE_HOME:-$HOME/.cache}/bundlepath/references
+mkdir -p "$cache"
+ref=$cache/cornell-box-pt-${size}-${ref_spp}
+if [ ! -f "$ref.exr" ]; then
+  echo "rendering the reference ($ref_spp spp, once)..." >&2
+  build/bundlepath render $scene --mode pt --width $size --height $size --spp "$ref_spp" --seed 7 --out "$ref" >&2
+fi
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+echo "| patch size (m) | patches | bins | relMSE | mean \|RB − PT\| / mean PT | bias | s |"
+echo "|---|---|---|---|---|---|---|"
+for ps in 0.1 0.05 0.025 0.0125; do
+  build/bundlepath render $scene --mode rb --width $size --height $size --iterations "$iterations" \
+    --patch-size "$ps" --out "$tmp/rb" --stats "$tmp/rb.json" 2>/dev/null
+  build/bundlepath compare "$tmp/rb.exr" "$ref.exr" --json > "$tmp/cmp.json"
+  python3 - "$ps" "$tmp/rb.json" "$tmp/cmp.json" <<'PY'
+import json, sys
+s, c = json.load(open(sys.argv[2])), json.load(open(sys.argv[3]))
+print(f"| {sys.argv[1]} | {s['patches']} | {s['bins']} | {c['rel_mse']:.4f} | {100*c['relative_mean_abs_difference']:.1f} % "
+      f"| {100*c['relative_bias']:+.1f} % | {s['render_seconds']:.0f} |")
+PY
+done
+echo "(${iterations} RB iterations per row, reference ${ref_spp} spp, ${size}x${size}; $(build/bundlepath devices | head -1))"
