@@ -30,4 +30,14 @@ print(f"| {sys.argv[1]} | {s['patches']} | {s['bins']} | {c['rel_mse']:.4f} | {1
       f"| {100*c['relative_bias']:+.1f} % | {s['render_seconds']:.0f} |")
 PY
 done
+# The reference's own noise: a second, independent path-traced image of the same spp against it.
+build/bundlepath render $scene --mode pt --width $size --height $size --spp "$ref_spp" --seed 8 --out "$tmp/pt" \
+  --stats "$tmp/pt.json" 2>/dev/null
+build/bundlepath compare "$tmp/pt.exr" "$ref.exr" --json > "$tmp/cmp.json"
+python3 - "$tmp/pt.json" "$tmp/cmp.json" <<'PY'
+import json, sys
+s, c = json.load(open(sys.argv[1])), json.load(open(sys.argv[2]))
+print(f"| PT vs PT (noise floor) | – | – | {c['rel_mse']:.4f} | {100*c['relative_mean_abs_difference']:.1f} % "
+      f"| {100*c['relative_bias']:+.1f} % | {s['render_seconds']:.0f} |")
+PY
 echo "(${iterations} RB iterations per row, reference ${ref_spp} spp, ${size}x${size}; $(build/bundlepath devices | head -1))"
