@@ -1,6 +1,6 @@
 // Global ray-bundle iteration (DESIGN.md §4) with a software transillumination buffer. One iteration:
-//   rb_outgoing -> rb_count -> scan -> rb_emit -> rb_bin_count -> scan -> rb_bin_scatter
-//   -> rb_transfer -> rb_gather -> (rb_eye)
+//   rb_outgoing -> rb_count -> scan -> rb_emit -> rb_tile_count -> scan -> rb_tile_scatter
+//   -> rb_tile_resolve -> rb_gather -> (rb_vertex -> rb_eye)
 // Patch radiance is kept as E_in = L_in cos(theta_in) ("irradiance over pi"), so an element seen
 // edge-on never divides by its cosine.
 #include "shared/types.h"
@@ -49,44 +49,51 @@ __kernel void rb_count(__global const BundleElement* elements, const BundleItera
   uint e = (uint)get_global_id(0);
   if (e >= count) return;
   RasterElement r = raster_setup(&elements[e], &it);
-  uint covered = 0u;
-  float depth;
-  for (int j = r.j0; j <= r.j1; ++j)
-    for (int i = r.i0; i <= r.i1; ++i) covered += (uint)raster_covers(&r, i, j, &depth);
-  fragment_counts[e] = covered;
+  fragment_counts[e] = raster_count(&r);
 }
 
-// 3. Fragments (bin, depth, element), emitted grouped by element at the scanned offsets.
+// 3. Fragments (tile key, depth, element), emitted grouped by element at the scanned offsets. The
+//    key packs the bin as its 16x16 tile and its place in the tile: tile << 8 | local bin.
 __kernel void rb_emit(__global const BundleElement* elements, const BundleIteration it, const uint count,
-                      __global const uint* fragment_offsets, __global uint* fragment_bin,
+                      __global const uint* fragment_offsets, __global uint* fragment_key,
                       __global float* fragment_depth, __global uint* fragment_element) {
   uint e = (uint)get_global_id(0);
   if (e >= count) return;
   RasterElement r = raster_setup(&elements[e], &it);
   uint slot = fragment_offsets[e];
-  float depth;
-  for (int j = r.j0; j <= r.j1; ++j)
-    for (int i = r.i0; i <= r.i1; ++i)
-      if (raster_covers(&r, i, j, &depth)) {
-        fragment_bin[slot] = (uint)j * it.bins_per_side + (uint)i;
-        fragment_depth[slot] = depth;
-        fragment_element[slot] = e;
-        ++slot;
-      }
+  for (int j = r.j0; j <= r.j1; ++j) {
+    int first, last;
+    raster_row_span(&r, j, &first, &last);
+    for (int i = first; i <= last; ++i) {
+      fragment_key[slot] = bundle_tile_key((uint)i, (uint)j, it.bins_per_side);
+      fragment_depth[slot] = raster_depth(&r, i, j);
+      fragment_element[slot] = e;
+      ++slot;
+    }
+  }
 }
 
-// 4. Counting sort by bin: count, (scan), scatter.
-__kernel void rb_bin_count(__global const uint* fragment_bin, const uint fragments, __global uint* bin_counts) {
+// 4. Counting sort by tile: count, (scan), scatter. The scatter also copies each fragment's depth,
+//    element and local bin next to its tile's other fragments, so a tile is resolved from one
+//    contiguous range.
+__kernel void rb_tile_count(__global const uint* fragment_key, const uint fragments, __global uint* tile_counts) {
   uint f = (uint)get_global_id(0);
   if (f >= fragments) return;
-  atomic_inc(&bin_counts[fragment_bin[f]]);
+  atomic_inc(&tile_counts[fragment_key[f] >> BP_TILE_LOCAL_BITS]);
 }
 
-__kernel void rb_bin_scatter(__global const uint* fragment_bin, const uint fragments,
-                             __global uint* bin_cursor, __global uint* sorted_slots) {
+__kernel void rb_tile_scatter(__global const uint* fragment_key, __global const float* fragment_depth,
+                              __global const uint* fragment_element, const uint fragments,
+                              __global uint* tile_cursor, __global uint* tiled_slot, __global uint* tiled_local,
+                              __global float* tiled_depth, __global uint* tiled_element) {
   uint f = (uint)get_global_id(0);
   if (f >= fragments) return;
-  sorted_slots[atomic_inc(&bin_cursor[fragment_bin[f]])] = f;
+  uint key = fragment_key[f];
+  uint at = atomic_inc(&tile_cursor[key >> BP_TILE_LOCAL_BITS]);
+  tiled_slot[at] = f;
+  tiled_local[at] = key & (BP_TILE_BINS - 1u);
+  tiled_depth[at] = fragment_depth[f];
+  tiled_element[at] = fragment_element[f];
 }
 
 // Depth order within a bin; ties (touching elements) broken by element index so the order, and
@@ -96,44 +103,61 @@ static int fragment_before(__global const float* depth, __global const uint* ele
   return da < db || (da == db && element[a] < element[b]);
 }
 
-// 5. Transfer: consecutive fragments exchange radiance. The side of a fragment that faces -omega
-//    (towards smaller depth) receives what the previous fragment sends along +omega, and the other
-//    side receives what the next one sends along -omega; nothing in front: the (black) background.
-__kernel void rb_transfer(__global const BundleElement* elements, __global const float* fragment_depth,
-                          __global const uint* fragment_element, __global const uint* bin_start,
-                          __global uint* sorted_slots, __global const float4* l_out, const BundleIteration it,
-                          const uint bins, __global float4* received_minus, __global float4* received_plus) {
-  uint bin = (uint)get_global_id(0);
-  if (bin >= bins) return;
-  uint begin = bin_start[bin], end = bin_start[bin + 1];
+// The sides of an element as seen along omega: the patch facing -omega (towards smaller depth) and
+// the one facing +omega; BP_NO_PATCH for the black back of a single-sided surface.
+static void sides_along(__global const BundleElement* e, float3 omega, uint* minus_patch, uint* plus_patch) {
+  int front_faces_minus = dot(bp_load3(e->normal), omega) < 0.0f;
+  *minus_patch = front_faces_minus ? e->front_patch : e->back_patch;
+  *plus_patch = front_faces_minus ? e->back_patch : e->front_patch;
+}
+
+// 5. Resolve one tile: counting sort of its fragments by bin (private counters), depth sort per bin,
+//    then the transfer: consecutive fragments exchange radiance. The side of a fragment facing
+//    -omega receives what the previous fragment sends along +omega, the other side what the next
+//    one sends along -omega; nothing in front: the (black) background.
+__kernel void rb_tile_resolve(__global const BundleElement* elements, __global const uint* tile_start,
+                              __global const uint* tiled_slot, __global const uint* tiled_local,
+                              __global const float* tiled_depth, __global const uint* tiled_element,
+                              __global uint* tile_order, __global const float4* l_out, const BundleIteration it,
+                              const uint tiles, __global float4* received_minus, __global float4* received_plus) {
+  uint tile = (uint)get_global_id(0);
+  if (tile >= tiles) return;
+  uint begin = tile_start[tile], end = tile_start[tile + 1];
   if (begin == end) return;
-  // Insertion sort in place: lists are short (the depth complexity of the scene).
-  for (uint a = begin + 1; a < end; ++a) {
-    uint slot = sorted_slots[a], b = a;
-    while (b > begin && fragment_before(fragment_depth, fragment_element, slot, sorted_slots[b - 1])) {
-      sorted_slots[b] = sorted_slots[b - 1];
-      --b;
+  uint bin_start[BP_TILE_BINS + 1];
+  for (uint b = 0; b <= BP_TILE_BINS; ++b) bin_start[b] = 0u;
+  for (uint a = begin; a < end; ++a) bin_start[tiled_local[a] + 1u] += 1u;
+  for (uint b = 0; b < BP_TILE_BINS; ++b) bin_start[b + 1] += bin_start[b];
+  uint cursor[BP_TILE_BINS];
+  for (uint b = 0; b < BP_TILE_BINS; ++b) cursor[b] = bin_start[b];
+  for (uint a = begin; a < end; ++a) tile_order[begin + cursor[tiled_local[a]]++] = a;
+
+  const float3 omega = bp_private3(it.omega);
+  const float4 zero = (float4)(0.0f, 0.0f, 0.0f, 0.0f);
+  for (uint b = 0; b < BP_TILE_BINS; ++b) {
+    uint first = begin + bin_start[b], last = begin + bin_start[b + 1];
+    if (first == last) continue;
+    for (uint a = first + 1; a < last; ++a) {  // insertion sort: lists are the scene's depth complexity
+      uint x = tile_order[a], c = a;
+      while (c > first && fragment_before(tiled_depth, tiled_element, x, tile_order[c - 1])) {
+        tile_order[c] = tile_order[c - 1];
+        --c;
+      }
+      tile_order[c] = x;
     }
-    sorted_slots[b] = slot;
-  }
-  float3 omega = bp_private3(it.omega);
-  float4 zero = (float4)(0.0f, 0.0f, 0.0f, 0.0f);
-  float4 from_previous = zero;  // what arrives along +omega at the current fragment
-  for (uint a = begin; a < end; ++a) {
-    uint slot = sorted_slots[a];
-    __global const BundleElement* e = &elements[fragment_element[slot]];
-    int front_faces_minus = dot(bp_load3(e->normal), omega) < 0.0f;
-    uint minus_patch = front_faces_minus ? e->front_patch : e->back_patch;
-    uint plus_patch = front_faces_minus ? e->back_patch : e->front_patch;
-    received_minus[slot] = from_previous;
-    from_previous = plus_patch != BP_NO_PATCH ? l_out[plus_patch] : zero;
-    if (a + 1 < end) {
-      __global const BundleElement* next = &elements[fragment_element[sorted_slots[a + 1]]];
-      int next_front_faces_minus = dot(bp_load3(next->normal), omega) < 0.0f;
-      uint next_minus = next_front_faces_minus ? next->front_patch : next->back_patch;
-      received_plus[slot] = next_minus != BP_NO_PATCH ? l_out[next_minus] : zero;
-    } else {
-      received_plus[slot] = zero;
+    float4 from_previous = zero;  // what arrives along +omega at the current fragment
+    uint minus_patch, plus_patch;
+    sides_along(&elements[tiled_element[tile_order[first]]], omega, &minus_patch, &plus_patch);
+    for (uint a = first; a < last; ++a) {
+      uint slot = tiled_slot[tile_order[a]];
+      received_minus[slot] = from_previous;
+      from_previous = plus_patch != BP_NO_PATCH ? l_out[plus_patch] : zero;
+      if (a + 1 < last) {
+        sides_along(&elements[tiled_element[tile_order[a + 1]]], omega, &minus_patch, &plus_patch);
+        received_plus[slot] = minus_patch != BP_NO_PATCH ? l_out[minus_patch] : zero;
+      } else {
+        received_plus[slot] = zero;
+      }
     }
   }
 }
@@ -154,9 +178,8 @@ __kernel void rb_gather(__global const BundleElement* elements, __global const u
     sum_plus += received_plus[s];
   }
   float scale = it.bin_size * it.bin_size / el->area;
-  int front_faces_minus = dot(bp_load3(el->normal), bp_private3(it.omega)) < 0.0f;
-  uint minus_patch = front_faces_minus ? el->front_patch : el->back_patch;
-  uint plus_patch = front_faces_minus ? el->back_patch : el->front_patch;
+  uint minus_patch, plus_patch;
+  sides_along(el, bp_private3(it.omega), &minus_patch, &plus_patch);
   if (minus_patch != BP_NO_PATCH) e_in[minus_patch] = sum_minus * scale;
   if (plus_patch != BP_NO_PATCH) e_in[plus_patch] = sum_plus * scale;
 }

@@ -114,6 +114,7 @@ int run_render(const RenderOptions& o) {
     settings.seed = o.seed;
     settings.bins = o.bins ? o.bins : default_bins(size);
     settings.warmup = o.warmup;
+    settings.gouraud = o.gouraud;
     try {
       check_bundle_memory(device.info, size, settings.bins, std::size_t(width) * height);
     } catch (const std::invalid_argument& e) {

@@ -57,6 +57,7 @@ options (defaults in brackets):
   --patch-size M      target patch edge in metres              [scene diagonal / 20]
   --bins R            transillumination buffer R x R bins (rb) [an average patch covers 4 bins]
   --warmup N          ray-bundle iterations before the image starts (rb)  [16]
+  --rb-shading S      eye estimate: gouraud (interpolated across patches) or flat  [gouraud]
   --stats FILE        write run statistics as JSON
   --exposure STOPS    exposure of the PNG                      [0]
   --max-depth N       safety cap on path length                [65536]
@@ -83,6 +84,10 @@ RenderOptions parse_render_options(const std::vector<std::string>& args) {
       {"--bins", [&](auto& k, auto& v) { o.bins = parse_number<std::uint32_t>(k, v, 1, 16384, "an integer in 1..16384"); }},
       {"--warmup", [&](auto& k, auto& v) {
          o.warmup = parse_number<std::uint32_t>(k, v, 0, 1u << 20, "an integer in 0..1048576");
+       }},
+      {"--rb-shading", [&](auto& k, auto& v) {
+         if (v != "gouraud" && v != "flat") throw UsageError(k + ": expected gouraud or flat, got '" + v + "'");
+         o.gouraud = v == "gouraud";
        }},
       {"--time", [&](auto& k, auto& v) { o.seconds = parse_number<double>(k, v, 1e-3, 1e7, "seconds > 0"); }},
       {"--seed", [&](auto& k, auto& v) {

@@ -22,6 +22,7 @@ struct RenderOptions {
   std::uint64_t iterations = 0;  // --mode rb; 0 and no time: 1000
   std::uint32_t bins = 0;        // 0: chosen from the patch count
   std::uint32_t warmup = 16;     // ray-bundle iterations before the first eye estimate
+  bool gouraud = true;           // --rb-shading gouraud|flat
   double seconds = 0.0;
   std::uint32_t seed = 1;
   std::string device;            // empty: first GPU, else first CPU

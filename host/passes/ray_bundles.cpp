@@ -11,7 +11,8 @@ namespace bp {
 namespace {
 
 constexpr std::uint32_t kDirectionStream = 0x0b0d1e5u;  // RNG stream of the iteration directions
-constexpr std::size_t kFragmentBytes = 4 + 4 + 4 + 4 + 16 + 16;  // bin, depth, element, sorted slot, 2 received
+// key, depth, element; their tiled copies with the slot and the tile order; 2 received radiances
+constexpr std::size_t kFragmentBytes = 3 * 4 + 5 * 4 + 2 * 16;
 
 cl_uint as_uint(std::size_t v) { return cl_uint(v); }
 
@@ -36,8 +37,8 @@ std::size_t fragment_allocation(const BundleSize& size, std::uint32_t bins) {
 }  // namespace
 
 std::size_t estimate_bundle_memory(const BundleSize& size, std::uint32_t bins, std::size_t pixels) {
-  std::size_t bin_cells = std::size_t(bins + 1) * (bins + 1) + 1;
-  return fragment_allocation(size, bins) * kFragmentBytes + bin_cells * 3 * sizeof(cl_uint) +
+  std::size_t tiles_per_side = bundle_tiles_per_side(bins + 1), tiles = tiles_per_side * tiles_per_side + 1;
+  return fragment_allocation(size, bins) * kFragmentBytes + tiles * 3 * sizeof(cl_uint) +
          size.patches * (4 * sizeof(cl_uint) + 2 * sizeof(cl_float4)) +
          size.elements * (sizeof(BundleElement) + 2 * sizeof(cl_uint)) +
          size.patches * 3 * (sizeof(cl_uint) + sizeof(cl_float4)) +  // Gouraud vertices (at most 3 per patch)
@@ -46,8 +47,7 @@ std::size_t estimate_bundle_memory(const BundleSize& size, std::uint32_t bins, s
 
 void check_bundle_memory(const DeviceInfo& device, const BundleSize& size, std::uint32_t bins, std::size_t pixels) {
   const std::size_t need = estimate_bundle_memory(size, bins, pixels);
-  const std::size_t largest =
-      std::max(fragment_allocation(size, bins) * sizeof(cl_float4), std::size_t(bins + 1) * (bins + 1) * 4);
+  const std::size_t largest = fragment_allocation(size, bins) * sizeof(cl_float4);
   // Leave a quarter of the device for the scene, the path tracer and the driver.
   if (need > device.global_memory_bytes / 4 * 3 || largest > device.max_alloc_bytes)
     throw std::invalid_argument(
@@ -70,19 +70,19 @@ RayBundlePass::RayBundlePass(const DeviceContext& device, const DeviceScene& sce
       element_count_(geometry.elements.size()),
       patch_count_(geometry.patch_element.size()),
       pixel_count_(std::size_t(camera.width) * camera.height),
-      bin_count_(std::size_t(bins_ + 1) * (bins_ + 1)),
+      tile_count_(std::size_t(bundle_tiles_per_side(bins_ + 1)) * bundle_tiles_per_side(bins_ + 1)),
       centre_(geometry.centre),
       radius_(geometry.radius),
       program_(build_program(device, "bundle.cl")),
       launcher_(device),
-      scan_(device, program_.program, std::max(element_count_, bin_count_)) {
+      scan_(device, program_.program, std::max(element_count_, tile_count_)) {
   const cl::Program& p = program_.program;
   outgoing_ = cl::Kernel(p, "rb_outgoing");
   count_ = cl::Kernel(p, "rb_count");
   emit_ = cl::Kernel(p, "rb_emit");
-  bin_count_kernel_ = cl::Kernel(p, "rb_bin_count");
-  bin_scatter_ = cl::Kernel(p, "rb_bin_scatter");
-  transfer_ = cl::Kernel(p, "rb_transfer");
+  tile_count_kernel_ = cl::Kernel(p, "rb_tile_count");
+  tile_scatter_ = cl::Kernel(p, "rb_tile_scatter");
+  tile_resolve_ = cl::Kernel(p, "rb_tile_resolve");
   gather_ = cl::Kernel(p, "rb_gather");
   eye_hits_ = cl::Kernel(p, "rb_eye_hits");
   vertex_ = cl::Kernel(p, "rb_vertex");
@@ -100,9 +100,9 @@ RayBundlePass::RayBundlePass(const DeviceContext& device, const DeviceScene& sce
   fragment_counts_ = make_buffer(device, "fragment counts", CL_MEM_READ_WRITE, element_count_ * sizeof(cl_uint));
   fragment_offsets_ =
       make_buffer(device, "fragment offsets", CL_MEM_READ_WRITE, (element_count_ + 1) * sizeof(cl_uint));
-  bin_counts_ = make_buffer(device, "bin counts", CL_MEM_READ_WRITE, bin_count_ * sizeof(cl_uint));
-  bin_start_ = make_buffer(device, "bin starts", CL_MEM_READ_WRITE, (bin_count_ + 1) * sizeof(cl_uint));
-  bin_cursor_ = make_buffer(device, "bin cursors", CL_MEM_READ_WRITE, (bin_count_ + 1) * sizeof(cl_uint));
+  tile_counts_ = make_buffer(device, "tile counts", CL_MEM_READ_WRITE, tile_count_ * sizeof(cl_uint));
+  tile_start_ = make_buffer(device, "tile starts", CL_MEM_READ_WRITE, (tile_count_ + 1) * sizeof(cl_uint));
+  tile_cursor_ = make_buffer(device, "tile cursors", CL_MEM_READ_WRITE, (tile_count_ + 1) * sizeof(cl_uint));
   eye_hits_buffer_ = make_buffer(device, "eye hits", CL_MEM_READ_WRITE, pixel_count_ * sizeof(EyeHit));
   pixel_sum_ = make_buffer(device, "eye estimate sums", CL_MEM_READ_WRITE, pixel_count_ * sizeof(cl_float4));
   device.queue.enqueueFillBuffer(e_in_, cl_float4{{0, 0, 0, 0}}, 0, patch_count_ * sizeof(cl_float4));
@@ -115,10 +115,14 @@ RayBundlePass::RayBundlePass(const DeviceContext& device, const DeviceScene& sce
 void RayBundlePass::ensure_fragment_capacity(std::size_t fragments) {
   if (fragments <= fragment_capacity_) return;
   std::size_t n = std::max(fragments, fragment_capacity_ + fragment_capacity_ / 4);
-  fragment_bin_ = make_buffer(device_, "fragment bins", CL_MEM_READ_WRITE, n * sizeof(cl_uint));
+  fragment_key_ = make_buffer(device_, "fragment keys", CL_MEM_READ_WRITE, n * sizeof(cl_uint));
   fragment_depth_ = make_buffer(device_, "fragment depths", CL_MEM_READ_WRITE, n * sizeof(cl_float));
   fragment_element_ = make_buffer(device_, "fragment elements", CL_MEM_READ_WRITE, n * sizeof(cl_uint));
-  sorted_slots_ = make_buffer(device_, "sorted fragments", CL_MEM_READ_WRITE, n * sizeof(cl_uint));
+  tiled_slot_ = make_buffer(device_, "tiled fragment slots", CL_MEM_READ_WRITE, n * sizeof(cl_uint));
+  tiled_local_ = make_buffer(device_, "tiled fragment bins", CL_MEM_READ_WRITE, n * sizeof(cl_uint));
+  tiled_depth_ = make_buffer(device_, "tiled fragment depths", CL_MEM_READ_WRITE, n * sizeof(cl_float));
+  tiled_element_ = make_buffer(device_, "tiled fragment elements", CL_MEM_READ_WRITE, n * sizeof(cl_uint));
+  tile_order_ = make_buffer(device_, "tile order", CL_MEM_READ_WRITE, n * sizeof(cl_uint));
   received_minus_ = make_buffer(device_, "received radiance (-omega side)", CL_MEM_READ_WRITE, n * sizeof(cl_float4));
   received_plus_ = make_buffer(device_, "received radiance (+omega side)", CL_MEM_READ_WRITE, n * sizeof(cl_float4));
   fragment_capacity_ = n;
@@ -185,35 +189,41 @@ std::uint64_t RayBundlePass::iterate(std::uint64_t iteration) {
   emit_.setArg(1, it);
   emit_.setArg(2, elements);
   emit_.setArg(3, fragment_offsets_);
-  emit_.setArg(4, fragment_bin_);
+  emit_.setArg(4, fragment_key_);
   emit_.setArg(5, fragment_depth_);
   emit_.setArg(6, fragment_element_);
   launcher_.launch("rb_emit", emit_, element_count_, 64);
 
-  device_.queue.enqueueFillBuffer(bin_counts_, cl_uint(0), 0, bin_count_ * sizeof(cl_uint));
-  bin_count_kernel_.setArg(0, fragment_bin_);
-  bin_count_kernel_.setArg(1, fragments);
-  bin_count_kernel_.setArg(2, bin_counts_);
-  launcher_.launch("rb_bin_count", bin_count_kernel_, fragments, 64);
-  scan_.exclusive(launcher_, bin_counts_, bin_count_, bin_start_);
-  device_.queue.enqueueCopyBuffer(bin_start_, bin_cursor_, 0, 0, (bin_count_ + 1) * sizeof(cl_uint));
-  bin_scatter_.setArg(0, fragment_bin_);
-  bin_scatter_.setArg(1, fragments);
-  bin_scatter_.setArg(2, bin_cursor_);
-  bin_scatter_.setArg(3, sorted_slots_);
-  launcher_.launch("rb_bin_scatter", bin_scatter_, fragments, 64);
+  device_.queue.enqueueFillBuffer(tile_counts_, cl_uint(0), 0, tile_count_ * sizeof(cl_uint));
+  tile_count_kernel_.setArg(0, fragment_key_);
+  tile_count_kernel_.setArg(1, fragments);
+  tile_count_kernel_.setArg(2, tile_counts_);
+  launcher_.launch("rb_tile_count", tile_count_kernel_, fragments, 64);
+  scan_.exclusive(launcher_, tile_counts_, tile_count_, tile_start_);
+  device_.queue.enqueueCopyBuffer(tile_start_, tile_cursor_, 0, 0, (tile_count_ + 1) * sizeof(cl_uint));
+  const cl::Buffer* scatter_args[] = {&fragment_key_, &fragment_depth_, &fragment_element_};
+  for (int a = 0; a < 3; ++a) tile_scatter_.setArg(a, *scatter_args[a]);
+  tile_scatter_.setArg(3, fragments);
+  tile_scatter_.setArg(4, tile_cursor_);
+  tile_scatter_.setArg(5, tiled_slot_);
+  tile_scatter_.setArg(6, tiled_local_);
+  tile_scatter_.setArg(7, tiled_depth_);
+  tile_scatter_.setArg(8, tiled_element_);
+  launcher_.launch("rb_tile_scatter", tile_scatter_, fragments, 64);
 
-  transfer_.setArg(0, elements_);
-  transfer_.setArg(1, fragment_depth_);
-  transfer_.setArg(2, fragment_element_);
-  transfer_.setArg(3, bin_start_);
-  transfer_.setArg(4, sorted_slots_);
-  transfer_.setArg(5, l_out_);
-  transfer_.setArg(6, it);
-  transfer_.setArg(7, as_uint(bin_count_));
-  transfer_.setArg(8, received_minus_);
-  transfer_.setArg(9, received_plus_);
-  launcher_.launch("rb_transfer", transfer_, bin_count_, 64);
+  tile_resolve_.setArg(0, elements_);
+  tile_resolve_.setArg(1, tile_start_);
+  tile_resolve_.setArg(2, tiled_slot_);
+  tile_resolve_.setArg(3, tiled_local_);
+  tile_resolve_.setArg(4, tiled_depth_);
+  tile_resolve_.setArg(5, tiled_element_);
+  tile_resolve_.setArg(6, tile_order_);
+  tile_resolve_.setArg(7, l_out_);
+  tile_resolve_.setArg(8, it);
+  tile_resolve_.setArg(9, as_uint(tile_count_));
+  tile_resolve_.setArg(10, received_minus_);
+  tile_resolve_.setArg(11, received_plus_);
+  launcher_.launch("rb_tile_resolve", tile_resolve_, tile_count_, 8);
 
   gather_.setArg(0, elements_);
   gather_.setArg(1, fragment_offsets_);

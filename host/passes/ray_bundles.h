@@ -66,18 +66,19 @@ class RayBundlePass : public ProgressivePass {
   RayBundleSettings settings_;
   CameraParams camera_;
   std::uint32_t bins_;
-  std::size_t element_count_, patch_count_, pixel_count_, bin_count_;
+  std::size_t element_count_, patch_count_, pixel_count_, tile_count_;
   glm::vec3 centre_;
   float radius_;
   BuiltProgram program_;
   Launcher launcher_;
   DeviceScan scan_;
-  cl::Kernel outgoing_, count_, emit_, bin_count_kernel_, bin_scatter_, transfer_, gather_, eye_hits_, vertex_, eye_;
+  cl::Kernel outgoing_, count_, emit_, tile_count_kernel_, tile_scatter_, tile_resolve_, gather_, eye_hits_, vertex_, eye_;
   cl::Buffer elements_, patch_element_, e_in_, l_out_, fragment_counts_, fragment_offsets_;
   cl::Buffer patch_vertices_, vertex_patch_start_, vertex_patches_, e_vertex_;
   std::size_t vertex_count_;
-  cl::Buffer bin_counts_, bin_start_, bin_cursor_, eye_hits_buffer_, pixel_sum_;
-  cl::Buffer fragment_bin_, fragment_depth_, fragment_element_, sorted_slots_, received_minus_, received_plus_;
+  cl::Buffer tile_counts_, tile_start_, tile_cursor_, eye_hits_buffer_, pixel_sum_;
+  cl::Buffer fragment_key_, fragment_depth_, fragment_element_, received_minus_, received_plus_;
+  cl::Buffer tiled_slot_, tiled_local_, tiled_depth_, tiled_element_, tile_order_;
   std::size_t fragment_capacity_ = 0;
   bool warmed_up_ = false;
   std::uint64_t eye_rounds_ = 0;  // eye estimates so far (drives the jitter refresh)

@@ -1,11 +1,13 @@
 // Binned-SAH BVH: a binary tree over triangle boxes (centroids binned on all three axes), then
-// collapsed two levels at a time into the 4-wide nodes that kernels/shared/bvh.h walks.
+// collapsed into the 4-wide nodes that kernels/shared/bvh.h walks, opening the largest child
+// first (or two levels at a time where that would outgrow the traversal stack).
 #include "scene/bvh.h"
 
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
 #include <cstdint>
+#include <exception>
 #include <stdexcept>
 #include <thread>
 
@@ -24,24 +26,24 @@ constexpr int kMaxBinaryDepth = 2 * BVH_MAX_NODE_DEPTH;
 constexpr std::uint32_t kParallelMin = 32 * 1024;
 constexpr int kParallelDepth = 2;
 
+// Boxes and centroids as 4-wide vectors (w unused): binning is most of the build time.
+typedef float v4 __attribute__((vector_size(16)));
+inline v4 vmin(v4 a, v4 b) { return a < b ? a : b; }
+inline v4 vmax(v4 a, v4 b) { return a > b ? a : b; }
+
 struct Aabb {
-  float lo[3] = {INFINITY, INFINITY, INFINITY};
-  float hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  v4 lo = {INFINITY, INFINITY, INFINITY, INFINITY};
+  v4 hi = {-INFINITY, -INFINITY, -INFINITY, -INFINITY};
   void grow(const Aabb& b) {
-    for (int a = 0; a < 3; ++a) {
-      lo[a] = std::min(lo[a], b.lo[a]);
-      hi[a] = std::max(hi[a], b.hi[a]);
-    }
+    lo = vmin(lo, b.lo);
+    hi = vmax(hi, b.hi);
   }
-  void grow(const float* p) {
-    for (int a = 0; a < 3; ++a) {
-      lo[a] = std::min(lo[a], p[a]);
-      hi[a] = std::max(hi[a], p[a]);
-    }
+  void grow(v4 p) {
+    lo = vmin(lo, p);
+    hi = vmax(hi, p);
   }
   float half_area() const {
-    float e[3];
-    for (int a = 0; a < 3; ++a) e[a] = std::max(hi[a] - lo[a], 0.0f);
+    v4 e = vmax(hi - lo, v4{0, 0, 0, 0});
     return e[0] * e[1] + e[1] * e[2] + e[2] * e[0];
   }
 };
@@ -72,13 +74,12 @@ class BinaryBuilder {
       Aabb box;
       for (const glm::vec3& p : tri.p) {
         finite = finite && std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
-        box.grow(&p.x);
+        box.grow(v4{p.x, p.y, p.z, 0.0f});
       }
       if (!finite) continue;  // it could only poison the boxes; no ray can hit it
       prims_.push_back(static_cast<std::uint32_t>(i));
       boxes_.push_back(box);
-      centroids_.push_back({0.5f * (box.lo[0] + box.hi[0]), 0.5f * (box.lo[1] + box.hi[1]),
-                            0.5f * (box.lo[2] + box.hi[2])});
+      centroids_.push_back(0.5f * (box.lo + box.hi));
     }
     order_.resize(prims_.size());
     for (std::uint32_t i = 0; i < order_.size(); ++i) order_[i] = i;
@@ -98,7 +99,6 @@ class BinaryBuilder {
   std::uint32_t scene_index(std::uint32_t i) const { return prims_[order_[i]]; }
 
  private:
-  struct Centroid { float c[3]; };
   struct Bin {
     Aabb box;
     std::uint32_t count = 0;
@@ -115,7 +115,7 @@ class BinaryBuilder {
     Aabb box, cbox;
     for (std::uint32_t i = begin; i < end; ++i) {
       box.grow(boxes_[order_[i]]);
-      cbox.grow(centroids_[order_[i]].c);
+      cbox.grow(centroids_[order_[i]]);
     }
     std::uint32_t index = static_cast<std::uint32_t>(nodes.size());
     nodes.emplace_back();
@@ -132,12 +132,23 @@ class BinaryBuilder {
     std::uint32_t left, right;
     if (depth < kParallelDepth && n >= kParallelMin) {
       std::vector<BuildNode> right_nodes;
+      std::exception_ptr failure;
       std::thread worker([&] {
-        right_nodes.reserve(2 * (end - mid) / kMaxLeaf + 1);
-        build(right_nodes, mid, end, depth + 1);
+        try {
+          right_nodes.reserve(2 * (end - mid) / kMaxLeaf + 1);
+          build(right_nodes, mid, end, depth + 1);
+        } catch (...) {
+          failure = std::current_exception();
+        }
       });
-      left = build(nodes, begin, mid, depth + 1);
+      try {
+        left = build(nodes, begin, mid, depth + 1);
+      } catch (...) {
+        worker.join();
+        throw;
+      }
       worker.join();
+      if (failure) std::rethrow_exception(failure);
       right = static_cast<std::uint32_t>(nodes.size());
       for (BuildNode& node : right_nodes) {
         if (!node.leaf) {
@@ -161,24 +172,25 @@ class BinaryBuilder {
     std::uint32_t n = end - begin;
     if (n <= 1) return begin;
     int axis = 0;
-    float extent[3];
+    float extent[3], scale[3];  // scale: centroid offset to bin index
     for (int a = 0; a < 3; ++a) {
       extent[a] = cbox.hi[a] - cbox.lo[a];
+      scale[a] = extent[a] > 0.0f ? kBins * (1.0f - 1e-6f) / extent[a] : 0.0f;
+      if (!std::isfinite(scale[a]) || !std::isfinite(extent[a])) extent[a] = scale[a] = 0.0f;  // denormal extent
       if (extent[a] > extent[axis]) axis = a;
     }
     bool median = extent[axis] <= 0.0f || depth + 1 + median_levels(n) > kMaxBinaryDepth;
     if (!median) {
-      Split best = best_split(begin, end, cbox, extent);
+      Split best = best_split(begin, end, cbox, scale);
       float area = box.half_area();
       float leaf_cost = kTriangleCost * static_cast<float>(n) * area;
       float split_cost = kTraversalCost * area + kTriangleCost * best.cost;
       if (n <= kMaxLeaf && leaf_cost <= split_cost) return begin;
       if (best.axis >= 0) {
         int a = best.axis;
-        float scale = kBins * (1.0f - 1e-6f) / extent[a];
-        float lo = cbox.lo[a];
+        float lo = cbox.lo[a], s = scale[a];
         auto* mid = std::partition(order_.data() + begin, order_.data() + end, [&](std::uint32_t p) {
-          return bin_of(centroids_[p].c[a], lo, scale) < best.bin;
+          return bin_of((centroids_[p][a] - lo) * s) < best.bin;
         });
         std::uint32_t m = static_cast<std::uint32_t>(mid - order_.data());
         if (m > begin && m < end) return m;
@@ -191,32 +203,32 @@ class BinaryBuilder {
     if (extent[axis] > 0.0f)
       std::nth_element(order_.data() + begin, order_.data() + m, order_.data() + end,
                        [&](std::uint32_t a, std::uint32_t b) {
-                         return centroids_[a].c[axis] < centroids_[b].c[axis];
+                         return centroids_[a][axis] < centroids_[b][axis];
                        });
     return m;
   }
 
-  static int bin_of(float c, float lo, float scale) {
-    int b = static_cast<int>((c - lo) * scale);
-    return std::clamp(b, 0, kBins - 1);
+  // Bin of a scaled centroid offset; clamps in float first (rounding, and no UB converting).
+  static int bin_of(float f) {
+    return f > 0.0f ? static_cast<int>(f < kBins - 1 ? f : kBins - 1) : 0;
   }
 
   Split best_split(std::uint32_t begin, std::uint32_t end, const Aabb& cbox,
-                   const float extent[3]) const {
+                   const float scale[3]) const {
     Bin bins[3][kBins];
-    float scale[3];
-    for (int a = 0; a < 3; ++a) scale[a] = extent[a] > 0.0f ? kBins * (1.0f - 1e-6f) / extent[a] : 0.0f;
+    v4 scale4 = {scale[0], scale[1], scale[2], 0.0f};
     for (std::uint32_t i = begin; i < end; ++i) {
       std::uint32_t p = order_[i];
+      v4 f = (centroids_[p] - cbox.lo) * scale4;  // as in split(), three axes at once
       for (int a = 0; a < 3; ++a) {
-        Bin& bin = bins[a][bin_of(centroids_[p].c[a], cbox.lo[a], scale[a])];
+        Bin& bin = bins[a][bin_of(f[a])];
         ++bin.count;
         bin.box.grow(boxes_[p]);
       }
     }
     Split best;
     for (int a = 0; a < 3; ++a) {
-      if (extent[a] <= 0.0f) continue;
+      if (scale[a] <= 0.0f) continue;
       float right_cost[kBins];  // area * count of bins [b, kBins)
       Aabb right;
       std::uint32_t right_count = 0;
@@ -240,7 +252,7 @@ class BinaryBuilder {
 
   std::vector<std::uint32_t> prims_;     // scene index of each usable triangle
   std::vector<Aabb> boxes_;              // per prim
-  std::vector<Centroid> centroids_;      // per prim: centre of its box
+  std::vector<v4> centroids_;            // per prim: centre of its box
   std::vector<std::uint32_t> order_;     // prims in leaf order
 };
 

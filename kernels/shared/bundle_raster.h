@@ -1,5 +1,5 @@
 // Rasterizing an element into the bins of the transillumination buffer (DESIGN.md §4): an element
-// covers a bin when the bin's centre lies inside its projection. The bin grid has a random
+// covers a bin when the bin's centre lies inside its projection, found row by row as a span. The bin grid has a random
 // sub-bin offset every iteration, so the expected number of covered bins is exactly the projected
 // area over the bin area — what makes the gather unbiased, also for elements smaller than a bin.
 #ifndef BP_SHARED_BUNDLE_RASTER_H
@@ -50,24 +50,44 @@ BP_FN RasterElement raster_setup(BP_GLOBAL const BundleElement* e, const BundleI
   return r;
 }
 
-// Top-left rule: a centre exactly on an edge shared by two elements belongs to one of them.
-BP_FN int raster_edge_owns(float value, float ax, float ay, float bx, float by, float orientation) {
-  if (value != 0.0f) return value * orientation > 0.0f;
-  float dx = (bx - ax) * orientation, dy = (by - ay) * orientation;
-  return dy > 0.0f || (dy == 0.0f && dx < 0.0f);
+// Bins of row j whose centres lie inside the element: [*first, *last] (empty when last < first).
+// Each edge function is linear in x along the row, so the row's span is the intersection of three
+// half-lines; count and emit call this same code, so they always agree. A centre exactly on an edge
+// (probability zero under the random offset) may belong to both neighbours or neither.
+BP_FN void raster_row_span(const RasterElement* r, bp_i32 j, bp_i32* first, bp_i32* last) {
+  float py = (float)j + 0.5f;
+  float lo = (float)r->i0 + 0.5f, hi = (float)r->i1 + 0.5f;
+  for (int k = 0; k < 3; ++k) {
+    int a = k == 0 ? 1 : (k == 1 ? 2 : 0), b = k == 0 ? 2 : (k == 1 ? 0 : 1);
+    // edge(a -> b) at (x, py) = slope * x + offset, scaled by the orientation so inside is >= 0
+    float slope = -(r->y[b] - r->y[a]) * r->orientation;
+    float offset = ((r->x[b] - r->x[a]) * (py - r->y[a]) + (r->y[b] - r->y[a]) * r->x[a]) * r->orientation;
+    if (slope > 0.0f) lo = fmax(lo, -offset / slope);
+    else if (slope < 0.0f) hi = fmin(hi, -offset / slope);
+    else if (offset < 0.0f) hi = lo - 1.0f;  // parallel to the row and outside
+  }
+  *first = (bp_i32)ceil(lo - 0.5f);
+  *last = (bp_i32)floor(hi - 0.5f);
 }
 
-// 1 if bin (i, j)'s centre is inside; then *depth is the element's depth there.
-BP_FN int raster_covers(const RasterElement* r, bp_i32 i, bp_i32 j, float* depth) {
+// Depth of the element's plane at bin (i, j)'s centre.
+BP_FN float raster_depth(const RasterElement* r, bp_i32 i, bp_i32 j) {
   float px = (float)i + 0.5f, py = (float)j + 0.5f;
-  float w0 = raster_edge(r->x[1], r->y[1], r->x[2], r->y[2], px, py);  // weight of corner 0
+  float w0 = raster_edge(r->x[1], r->y[1], r->x[2], r->y[2], px, py);
   float w1 = raster_edge(r->x[2], r->y[2], r->x[0], r->y[0], px, py);
   float w2 = raster_edge(r->x[0], r->y[0], r->x[1], r->y[1], px, py);
-  if (!raster_edge_owns(w0, r->x[1], r->y[1], r->x[2], r->y[2], r->orientation)) return 0;
-  if (!raster_edge_owns(w1, r->x[2], r->y[2], r->x[0], r->y[0], r->orientation)) return 0;
-  if (!raster_edge_owns(w2, r->x[0], r->y[0], r->x[1], r->y[1], r->orientation)) return 0;
-  *depth = (w0 * r->depth[0] + w1 * r->depth[1] + w2 * r->depth[2]) * r->inv_double_area;
-  return 1;
+  return (w0 * r->depth[0] + w1 * r->depth[1] + w2 * r->depth[2]) * r->inv_double_area;
+}
+
+// Number of bins the element covers.
+BP_FN bp_u32 raster_count(const RasterElement* r) {
+  bp_u32 covered = 0u;
+  for (bp_i32 j = r->j0; j <= r->j1; ++j) {
+    bp_i32 first, last;
+    raster_row_span(r, j, &first, &last);
+    if (last >= first) covered += (bp_u32)(last - first + 1);
+  }
+  return covered;
 }
 
 #endif  // BP_SHARED_BUNDLE_RASTER_H

@@ -5,6 +5,19 @@
 
 #define BP_NO_PATCH 0xffffffffu
 
+// Bins are resolved in square tiles of BP_TILE_SIDE^2 (locality: a tile's counters stay in cache).
+#define BP_TILE_SIDE 16u
+#define BP_TILE_LOCAL_BITS 8u
+#define BP_TILE_BINS (BP_TILE_SIDE * BP_TILE_SIDE)
+
+BP_FN bp_u32 bundle_tiles_per_side(bp_u32 bins_per_side) { return (bins_per_side + BP_TILE_SIDE - 1u) / BP_TILE_SIDE; }
+
+// Fragment key of bin (i, j): its tile, then its place in the tile.
+BP_FN bp_u32 bundle_tile_key(bp_u32 i, bp_u32 j, bp_u32 bins_per_side) {
+  bp_u32 tile = (j / BP_TILE_SIDE) * bundle_tiles_per_side(bins_per_side) + i / BP_TILE_SIDE;
+  return (tile << BP_TILE_LOCAL_BITS) | ((j % BP_TILE_SIDE) * BP_TILE_SIDE + i % BP_TILE_SIDE);
+}
+
 // An element: one sub-triangle of the patch grid (kernels/shared/patch.h), i.e. one physical piece of
 // surface. Its front side is patch front_patch; its back side is back_patch for double-sided
 // materials, else BP_NO_PATCH (the back is black and only occludes).
