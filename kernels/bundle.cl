@@ -11,9 +11,11 @@
 #include "shared/camera.h"
 #include "shared/rng.h"
 #include "shared/surface.h"
+#include "shared/weights.h"
 #include "scan.cl"
 
 #define BP_BACK_SIDE 0x80000000u
+#define BP_NO_SENDER (-3.0e38f)  // .w of radiance that came from no patch (below any ln P)
 
 // Normal of a patch (its element's normal, flipped for a back side).
 static float3 patch_normal(__global const BundleElement* elements, uint patch_element) {
@@ -25,8 +27,17 @@ static float3 patch_normal(__global const BundleElement* elements, uint patch_el
 // The direction along +-omega that leaves a patch's side: omega or -omega, whichever is in front.
 static float3 facing(float3 n, float3 omega) { return dot(n, omega) >= 0.0f ? omega : -omega; }
 
+// ln of the paper's P of the radiance that leaves a patch: eq. (10) for the reflected part, P = 1 for
+// the emitted part, mixed by their luminance (one number per patch cannot be exact, DESIGN.md §3).
+static float paper_log_p_out(float3 emitted, float3 reflected, float log_p_reflected) {
+  float le = emitted.x + emitted.y + emitted.z, lr = reflected.x + reflected.y + reflected.z;
+  if (le + lr <= 0.0f) return log_p_reflected;
+  return log_add_exp(log_or_zero(le), log_or_zero(lr) + log_p_reflected) - log(le + lr);
+}
+
 // 1. Outgoing radiance of every patch along the new direction: the random operator T* applied to the
-//    previous incoming radiance, L_out = Le + 2 pi f(w_prev -> w_out) cos(theta_prev) L_in.
+//    previous incoming radiance, L_out = Le + 2 pi f(w_prev -> w_out) cos(theta_prev) L_in, with the
+//    vertex's beta multiplied in on the weighted chain of --weights product (DESIGN.md §3).
 __kernel void rb_outgoing(__global const BundleElement* elements, __global const uint* patch_element,
                           __global const Material* materials, __global const float4* e_in,
                           const BundleIteration it, const uint patches, __global float4* l_out) {
@@ -37,10 +48,17 @@ __kernel void rb_outgoing(__global const BundleElement* elements, __global const
   Bsdf bsdf = bsdf_from_material(&materials[elements[pe & ~BP_BACK_SIDE].material]);
   float3 wi = facing(n, bp_private3(it.omega_prev));
   float3 wo = facing(n, bp_private3(it.omega));
-  float4 e = e_in[p];
-  float3 reflected = bsdf_eval(&bsdf, n, wi, wo) * make_float3(e.x, e.y, e.z) * BP_TWO_PI;
-  float3 l = bsdf.emission + reflected;
-  l_out[p] = (float4)(l.x, l.y, l.z, 0.0f);
+  float3 transfer = bsdf_eval(&bsdf, n, wi, wo) * BP_TWO_PI;  // 2 pi f, times E_in = L_in cos below
+  for (uint c = 0; c < it.chains; ++c) {
+    float4 e = e_in[p * it.chains + c];
+    float3 reflected = transfer * make_float3(e.x, e.y, e.z);
+    float w = 0.0f;
+    if (c == 0 && it.weight_mode == BP_WEIGHTS_PRODUCT) reflected *= vertex_beta(&bsdf, n, wi, wo, it.weight_ratio);
+    if (c == 0 && it.weight_mode == BP_WEIGHTS_PAPER)
+      w = paper_log_p_out(bsdf.emission, reflected, paper_log_pstar_step(&bsdf, n, wi, wo, e.w));  // (10)
+    float3 l = bsdf.emission + reflected;
+    l_out[p * it.chains + c] = (float4)(l.x, l.y, l.z, w);
+  }
 }
 
 // 2. Bins covered by each element.
@@ -133,7 +151,7 @@ __kernel void rb_tile_resolve(__global const BundleElement* elements, __global c
   for (uint a = begin; a < end; ++a) tile_order[begin + cursor[tiled_local[a]]++] = a;
 
   const float3 omega = bp_private3(it.omega);
-  const float4 zero = (float4)(0.0f, 0.0f, 0.0f, 0.0f);
+  const float4 nothing = (float4)(0.0f, 0.0f, 0.0f, BP_NO_SENDER);  // black, and no P
   for (uint b = 0; b < BP_TILE_BINS; ++b) {
     uint first = begin + bin_start[b], last = begin + bin_start[b + 1];
     if (first == last) continue;
@@ -145,21 +163,42 @@ __kernel void rb_tile_resolve(__global const BundleElement* elements, __global c
       }
       tile_order[c] = x;
     }
-    float4 from_previous = zero;  // what arrives along +omega at the current fragment
+    const uint chains = it.chains;
+    uint sender = BP_NO_PATCH;  // the patch whose radiance arrives along +omega at the current fragment
     uint minus_patch, plus_patch;
     sides_along(&elements[tiled_element[tile_order[first]]], omega, &minus_patch, &plus_patch);
     for (uint a = first; a < last; ++a) {
       uint slot = tiled_slot[tile_order[a]];
-      received_minus[slot] = from_previous;
-      from_previous = plus_patch != BP_NO_PATCH ? l_out[plus_patch] : zero;
+      for (uint c = 0; c < chains; ++c)
+        received_minus[slot * chains + c] = sender != BP_NO_PATCH ? l_out[sender * chains + c] : nothing;
+      sender = plus_patch;
+      uint next_minus = BP_NO_PATCH;
       if (a + 1 < last) {
         sides_along(&elements[tiled_element[tile_order[a + 1]]], omega, &minus_patch, &plus_patch);
-        received_plus[slot] = minus_patch != BP_NO_PATCH ? l_out[minus_patch] : zero;
-      } else {
-        received_plus[slot] = zero;
+        next_minus = minus_patch;
       }
+      for (uint c = 0; c < chains; ++c)
+        received_plus[slot * chains + c] = next_minus != BP_NO_PATCH ? l_out[next_minus * chains + c] : nothing;
     }
   }
+}
+
+// Sum over an element's fragments of one chain's received radiance. With with_p, .w becomes ln of the
+// mean P of the fragments that had a sender (the paper's area-weighted mean over senders).
+static float4 gather_chain(__global const float4* received, uint begin, uint end, uint chains, uint c, float scale,
+                           int with_p) {
+  float3 sum = make_float3(0.0f, 0.0f, 0.0f);
+  float log_p_sum = BP_LOG_ZERO, senders = 0.0f;
+  for (uint s = begin; s < end; ++s) {
+    float4 r = received[s * chains + c];
+    sum += make_float3(r.x, r.y, r.z);
+    if (with_p && r.w > BP_NO_SENDER) {
+      log_p_sum = log_add_exp(log_p_sum, r.w);  // log-sum-exp: P passes 1e38 on long glossy paths
+      senders += 1.0f;
+    }
+  }
+  sum *= scale;
+  return (float4)(sum.x, sum.y, sum.z, senders > 0.0f ? log_p_sum - log(senders) : 0.0f);
 }
 
 // 6. New incoming radiance per patch: transferred power over area. With n_bins covered,
@@ -172,16 +211,16 @@ __kernel void rb_gather(__global const BundleElement* elements, __global const u
   if (e >= count) return;
   __global const BundleElement* el = &elements[e];
   uint begin = fragment_offsets[e], end = begin + fragment_counts[e];
-  float4 sum_minus = (float4)(0.0f), sum_plus = (float4)(0.0f);
-  for (uint s = begin; s < end; ++s) {
-    sum_minus += received_minus[s];
-    sum_plus += received_plus[s];
-  }
   float scale = it.bin_size * it.bin_size / el->area;
   uint minus_patch, plus_patch;
   sides_along(el, bp_private3(it.omega), &minus_patch, &plus_patch);
-  if (minus_patch != BP_NO_PATCH) e_in[minus_patch] = sum_minus * scale;
-  if (plus_patch != BP_NO_PATCH) e_in[plus_patch] = sum_plus * scale;
+  const int with_p = it.weight_mode == BP_WEIGHTS_PAPER;
+  for (uint c = 0; c < it.chains; ++c) {
+    if (minus_patch != BP_NO_PATCH)
+      e_in[minus_patch * it.chains + c] = gather_chain(received_minus, begin, end, it.chains, c, scale, with_p);
+    if (plus_patch != BP_NO_PATCH)
+      e_in[plus_patch * it.chains + c] = gather_chain(received_plus, begin, end, it.chains, c, scale, with_p);
+  }
 }
 
 // Primary hits for the eye estimate, jittered within the pixel like the path tracer's.
@@ -214,26 +253,39 @@ __kernel void rb_eye_hits(__global const BvhNode* nodes, __global const BvhTrian
   hits[pixel] = out;
 }
 
-// Gouraud vertices: the area-weighted mean E_in of the patches around each welded corner.
+// Gouraud vertices: the area-weighted mean E_in (every chain, P too) of the patches around each
+// welded corner.
 __kernel void rb_vertex(__global const uint* vertex_patch_start, __global const uint* vertex_patches,
                         __global const BundleElement* elements, __global const uint* patch_element,
-                        __global const float4* e_in, const uint vertices, __global float4* e_vertex) {
+                        __global const float4* e_in, const BundleIteration it, const uint vertices,
+                        __global float4* e_vertex) {
   uint v = (uint)get_global_id(0);
   if (v >= vertices) return;
-  float4 sum = (float4)(0.0f);
-  float area = 0.0f;
-  for (uint k = vertex_patch_start[v]; k < vertex_patch_start[v + 1]; ++k) {
-    uint p = vertex_patches[k];
-    float a = elements[patch_element[p] & ~BP_BACK_SIDE].area;
-    sum += e_in[p] * a;
-    area += a;
+  for (uint c = 0; c < it.chains; ++c) {
+    float4 sum = (float4)(0.0f);
+    float area = 0.0f;
+    for (uint k = vertex_patch_start[v]; k < vertex_patch_start[v + 1]; ++k) {
+      uint p = vertex_patches[k];
+      float a = elements[patch_element[p] & ~BP_BACK_SIDE].area;
+      sum += e_in[p * it.chains + c] * a;
+      area += a;
+    }
+    e_vertex[v * it.chains + c] = area > 0.0f ? sum / area : (float4)(0.0f);
   }
-  e_vertex[v] = area > 0.0f ? sum / area : (float4)(0.0f);
+}
+
+// E_in of one chain at an eye hit: the patch's own (flat) or interpolated from its corners (Gouraud).
+static float4 eye_irradiance(const EyeHit* h, __global const float4* e_in, __global const uint* patch_vertices,
+                             __global const float4* e_vertex, uint gouraud, uint chains, uint c) {
+  if (!gouraud) return e_in[h->patch * chains + c];
+  __global const uint* pv = &patch_vertices[3 * h->patch];
+  return e_vertex[pv[0] * chains + c] * (1.0f - h->l1 - h->l2) + e_vertex[pv[1] * chains + c] * h->l1 +
+         e_vertex[pv[2] * chains + c] * h->l2;
 }
 
 // 7. Eye estimate of this iteration: the primary hit reflects its patch's incoming radiance towards
-//    the eye, Le + 2 pi f(w_in -> w_view) cos(theta_in) L_in, added to the pixel's running sum.
-//    E_in is the patch's own (flat) or interpolated from its corners' vertices (Gouraud).
+//    the eye, Le + 2 pi f(w_in -> w_view) cos(theta_in) L_in, weighted as the mode says, added to the
+//    pixel's running sums (weighted, and raw when asked for).
 __kernel void rb_eye(__global const EyeHit* hits, __global const BundleElement* elements,
                      __global const uint* patch_element, __global const Material* materials,
                      __global const float4* e_in, __global const uint* patch_vertices,
@@ -248,13 +300,27 @@ __kernel void rb_eye(__global const EyeHit* hits, __global const BundleElement* 
   Bsdf bsdf = bsdf_from_material(&materials[elements[pe & ~BP_BACK_SIDE].material]);
   float3 wo = make_float3(h.wo[0], h.wo[1], h.wo[2]);
   float3 wi = facing(n, bp_private3(it.omega));
-  float4 e;
-  if (gouraud) {
-    __global const uint* pv = &patch_vertices[3 * h.patch];
-    e = e_vertex[pv[0]] * (1.0f - h.l1 - h.l2) + e_vertex[pv[1]] * h.l1 + e_vertex[pv[2]] * h.l2;
+  float3 transfer = bsdf_eval(&bsdf, n, wi, wo) * BP_TWO_PI;
+  float4 e0 = eye_irradiance(&h, e_in, patch_vertices, e_vertex, gouraud, it.chains, 0u);
+  float3 reflected0 = transfer * make_float3(e0.x, e0.y, e0.z);
+  float3 weighted;
+  if (it.weight_mode == BP_WEIGHTS_PRODUCT) {
+    // chain 0 already carries prod beta of the earlier vertices; the eye vertex adds its own.
+    weighted = bsdf.emission + reflected0 * vertex_beta(&bsdf, n, wi, wo, it.weight_ratio);
+  } else if (it.weight_mode == BP_WEIGHTS_PAPER) {
+    float log_pstar = paper_log_pstar_step(&bsdf, n, wi, wo, e0.w);  // (10) at the eye vertex
+    weighted = bsdf.emission * paper_rb_weight(0.0f, it.weight_ratio) +  // the emitter seen directly: P = 1
+               reflected0 * paper_rb_weight(log_pstar, it.weight_ratio);
   } else {
-    e = e_in[h.patch];
+    weighted = bsdf.emission + reflected0;
   }
-  float3 l = bsdf.emission + bsdf_eval(&bsdf, n, wi, wo) * make_float3(e.x, e.y, e.z) * BP_TWO_PI;
-  pixel_sum[pixel] += (float4)(l.x, l.y, l.z, 0.0f);
+  pixel_sum[pixel * it.eye_outputs] += (float4)(weighted.x, weighted.y, weighted.z, 0.0f);
+  if (it.eye_outputs > 1) {
+    float3 raw = bsdf.emission + reflected0;
+    if (it.weight_mode == BP_WEIGHTS_PRODUCT) {
+      float4 e1 = eye_irradiance(&h, e_in, patch_vertices, e_vertex, gouraud, it.chains, 1u);
+      raw = bsdf.emission + transfer * make_float3(e1.x, e1.y, e1.z);
+    }
+    pixel_sum[pixel * it.eye_outputs + 1] += (float4)(raw.x, raw.y, raw.z, 0.0f);
+  }
 }

@@ -48,12 +48,22 @@ options (defaults in brackets):
   --out PREFIX        output path without extension            [out/<scene name>]
   --width W           image width in pixels, 1..16384          [512]
   --height H          image height in pixels, 1..16384         [width / camera aspect ratio]
-  --spp N             samples per pixel (pt)                   [64, unless --time is given]
-  --iterations N      ray-bundle iterations (rb)               [1000, unless --time is given]
+  --spp N             samples per pixel (pt, combined)         [pt: 64, unless --time is given]
+  --iterations N      ray-bundle iterations (rb, combined)     [rb: 1000, unless --time is given]
+                      combined: give --spp, --iterations or --time; the other count follows
+                      from --ratio                             [combined: 64 spp]
   --time SECONDS      stop after this much rendering time; with --spp, whichever comes first
   --seed K            random seed; same seed, same device -> bit-identical image   [1]
   --device SPEC       device index or name substring (see `bundlepath devices`)  [first GPU, else CPU]
-  --mode MODE         estimator: pt (path tracing), rb (global ray-bundle iteration)   [pt]
+  --mode MODE         pt (path tracing), rb (global ray-bundle iteration), or combined
+                      (both, weighted per path so the sum stays unbiased)      [pt]
+  --weights W         combined: product (exact per-vertex weights), paper (the paper's
+                      eq. 9/10 weights, one P per patch), none (plain sum: double counts)  [product]
+  --ratio C           combined: PT samples per pixel per RB iteration         [1/16]
+  --layers all        also write the unweighted pt_raw and rb_raw layers
+  --reference REF.exr report relMSE, RMSE and mean bias of every layer against REF
+  --contact-sheet F   write F.png: non-weighted PT, weighted PT, combined, non-weighted RB,
+                      weighted RB, reference (implies --layers all)
   --patch-size M      target patch edge in metres              [scene diagonal / 20]
   --bins R            transillumination buffer R x R bins (rb) [an average patch covers 4 bins]
   --warmup N          ray-bundle iterations before the image starts (rb)  [16]
@@ -89,13 +99,39 @@ RenderOptions parse_render_options(const std::vector<std::string>& args) {
          if (v != "gouraud" && v != "flat") throw UsageError(k + ": expected gouraud or flat, got '" + v + "'");
          o.gouraud = v == "gouraud";
        }},
+      {"--weights", [&](auto& k, auto& v) {
+         if (v != "product" && v != "paper" && v != "none")
+           throw UsageError(k + ": unknown weights '" + v + "' (available: product, paper, none)");
+         o.weights = v;
+       }},
+      {"--ratio", [&](auto& k, auto& v) {
+         std::string text = v;
+         double value;
+         if (auto slash = text.find('/'); slash != std::string::npos)  // "1/16"
+           value = parse_number<double>(k, text.substr(0, slash), 1e-9, 1e9, "a ratio like 0.25 or 1/4") /
+                   parse_number<double>(k, text.substr(slash + 1), 1e-9, 1e9, "a ratio like 0.25 or 1/4");
+         else
+           value = parse_number<double>(k, text, 1e-9, 1e9, "a ratio like 0.25 or 1/4");
+         if (value < 1e-6 || value > 1e6) throw UsageError(k + ": expected a ratio in [1e-6, 1e6], got '" + v + "'");
+         o.ratio = value;
+       }},
+      {"--layers", [&](auto& k, auto& v) {
+         if (v != "all") throw UsageError(k + ": the only value is 'all'");
+         o.all_layers = true;
+       }},
+      {"--reference", [&](auto&, auto& v) { o.reference_path = v; }},
+      {"--contact-sheet", [&](auto&, auto& v) {
+         o.contact_sheet_path = v;
+         o.all_layers = true;
+       }},
       {"--time", [&](auto& k, auto& v) { o.seconds = parse_number<double>(k, v, 1e-3, 1e7, "seconds > 0"); }},
       {"--seed", [&](auto& k, auto& v) {
          o.seed = parse_number<std::uint32_t>(k, v, 0, 0xffffffffu, "an integer in 0..4294967295");
        }},
       {"--device", [&](auto&, auto& v) { o.device = v; }},
       {"--mode", [&](auto& k, auto& v) {
-         if (v != "pt" && v != "rb") throw UsageError(k + ": unknown mode '" + v + "' (available: pt, rb)");
+         if (v != "pt" && v != "rb" && v != "combined")
+           throw UsageError(k + ": unknown mode '" + v + "' (available: pt, rb, combined)");
          o.mode = v;
        }},
       {"--patch-size", [&](auto& k, auto& v) {
@@ -135,8 +171,12 @@ RenderOptions parse_render_options(const std::vector<std::string>& args) {
   if (o.scene.empty()) throw UsageError("no scene file given (usage: bundlepath render SCENE.gltf [options])");
   if (spp_given && o.mode == "rb") throw UsageError("--spp counts path-tracer samples; with --mode rb use --iterations");
   if (iterations_given && o.mode == "pt") throw UsageError("--iterations counts ray-bundle iterations; with --mode pt use --spp");
+  if (spp_given && iterations_given)
+    throw UsageError("give --spp or --iterations, not both: --ratio fixes one from the other");
   if (o.mode == "pt" && !spp_given && o.seconds == 0.0) o.spp = 64;
   if (o.mode == "rb" && !iterations_given && o.seconds == 0.0) o.iterations = 1000;
+  if (o.mode == "combined" && !spp_given && !iterations_given && o.seconds == 0.0) o.spp = 64;
+  if (o.ratio == 0.0) o.ratio = 1.0 / 16.0;
   if (o.out_prefix.empty()) o.out_prefix = (std::filesystem::path("out") / std::filesystem::path(o.scene).stem()).string();
   return o;
 }

@@ -18,15 +18,20 @@ struct RenderOptions {
   std::string out_prefix;        // default: out/<scene file stem>
   int width = 512;
   int height = 0;                // 0: from the width and the camera's aspect ratio (square if none)
-  std::uint64_t spp = 0;         // --mode pt; 0 and no time: 64
-  std::uint64_t iterations = 0;  // --mode rb; 0 and no time: 1000
+  std::uint64_t spp = 0;         // --mode pt/combined; 0 and no time: 64 (pt)
+  std::uint64_t iterations = 0;  // --mode rb/combined; 0 and no time: 1000 (rb)
   std::uint32_t bins = 0;        // 0: chosen from the patch count
   std::uint32_t warmup = 16;     // ray-bundle iterations before the first eye estimate
   bool gouraud = true;           // --rb-shading gouraud|flat
   double seconds = 0.0;
   std::uint32_t seed = 1;
   std::string device;            // empty: first GPU, else first CPU
-  std::string mode = "pt";
+  std::string mode = "pt";       // pt, rb, combined
+  std::string weights = "product";  // combined: product, paper, none
+  double ratio = 0.0;            // combined: PT samples per pixel per RB iteration; 0 = the default
+  bool all_layers = false;       // --layers all: also pt_raw and rb_raw
+  std::string reference_path;    // --reference REF.exr
+  std::string contact_sheet_path;
   float patch_size = 0.0f;       // metres; 0: derived from the scene's extent
   std::string stats_path;
   float exposure = 0.0f;         // PNG exposure in stops

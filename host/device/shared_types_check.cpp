@@ -15,3 +15,10 @@ BP_CHECK_LAYOUT(CameraParams, 64);
 static_assert(offsetof(CameraParams, right) == 16 && offsetof(CameraParams, forward) == 48);
 BP_CHECK_LAYOUT(PathTraceParams, 32);
 BP_CHECK_LAYOUT(PixelAccum, 32);
+static_assert(offsetof(PixelAccum, raw) == 16);
+
+#include "kernels/shared/bundle_types.h"
+BP_CHECK_LAYOUT(BundleElement, 64);
+BP_CHECK_LAYOUT(BundleIteration, 96);
+static_assert(offsetof(BundleIteration, omega_prev) == 64 && offsetof(BundleIteration, weight_ratio) == 88);
+BP_CHECK_LAYOUT(EyeHit, 32);

@@ -6,6 +6,7 @@
 #include "image/accumulator.h"
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 namespace bp {
 
@@ -18,12 +19,14 @@ struct BatchCounts {
 class ProgressivePass {
  public:
   virtual ~ProgressivePass() = default;
-  // Rounds [first, first + count): adds their estimates into accum and count to its round total.
-  virtual BatchCounts run(std::uint64_t first, std::uint32_t count, Accumulator& accum) = 0;
+  // Rounds [first, first + count): adds their estimates into the pass's accumulator(s).
+  virtual BatchCounts run(std::uint64_t first, std::uint32_t count) = 0;
   // Most rounds in one batch (so a batch stays a fraction of a second).
   virtual std::uint32_t max_batch() const = 0;
   virtual const Launcher& launcher() const = 0;
   virtual const BuiltProgram& program() const = 0;
+  // The estimators this pass drives (itself, or the two of a combination), for the stats.
+  virtual std::vector<const ProgressivePass*> parts() const { return {this}; }
 };
 
 }  // namespace bp

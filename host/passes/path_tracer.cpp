@@ -5,8 +5,8 @@
 namespace bp {
 
 PathTracerPass::PathTracerPass(const DeviceContext& device, const DeviceScene& scene, const CameraParams& camera,
-                               float ray_epsilon, const PathTracerSettings& settings)
-    : device_(device), camera_(camera), launcher_(device) {
+                               float ray_epsilon, const PathTracerSettings& settings, Accumulator& accum)
+    : device_(device), accum_(accum), camera_(camera), launcher_(device) {
   params_.seed = settings.seed;
   params_.max_depth = settings.max_depth;
   params_.ray_epsilon = ray_epsilon;
@@ -29,7 +29,8 @@ std::uint32_t PathTracerPass::max_batch() const {
   return std::uint32_t(std::clamp<std::size_t>((std::size_t(1) << 20) / host_pixels_.size(), 1, 256));
 }
 
-BatchCounts PathTracerPass::run(std::uint64_t first, std::uint32_t count, Accumulator& accum) {
+BatchCounts PathTracerPass::run(std::uint64_t first, std::uint32_t count) {
+  Accumulator& accum = accum_;
   params_.first_sample = std::uint32_t(first);
   params_.samples_per_launch = count;
   kernel_.setArg(5, params_);
@@ -39,7 +40,9 @@ BatchCounts PathTracerPass::run(std::uint64_t first, std::uint32_t count, Accumu
   BatchCounts counts;
   for (std::size_t i = 0; i < host_pixels_.size(); ++i) {
     const PixelAccum& p = host_pixels_[i];
-    for (int c = 0; c < 3; ++c) accum.sum[i * 3 + c] += double(p.radiance[c]);
+    for (int c = 0; c < 3; ++c) accum.sum[i * 3 + c] += double(p.weighted[c]);
+    if (accum.keeps_raw())
+      for (int c = 0; c < 3; ++c) accum.raw_sum[i * 3 + c] += double(p.raw[c]);
     counts.rays += p.rays;
     counts.nonfinite_samples += p.nonfinite_samples;
   }

@@ -18,11 +18,12 @@ struct PathTracerSettings {
 
 class PathTracerPass : public ProgressivePass {
  public:
+  // Adds its estimates into `accum` (sized like the camera's image).
   PathTracerPass(const DeviceContext& device, const DeviceScene& scene, const CameraParams& camera,
-                 float ray_epsilon, const PathTracerSettings& settings);
+                 float ray_epsilon, const PathTracerSettings& settings, Accumulator& accum);
 
-  // Traces samples [first, first + count) of every pixel and adds them into accum.
-  BatchCounts run(std::uint64_t first, std::uint32_t count, Accumulator& accum) override;
+  // Traces samples [first, first + count) of every pixel.
+  BatchCounts run(std::uint64_t first, std::uint32_t count) override;
   // About 2^20 samples per launch.
   std::uint32_t max_batch() const override;
 
@@ -31,6 +32,7 @@ class PathTracerPass : public ProgressivePass {
 
  private:
   const DeviceContext& device_;
+  Accumulator& accum_;
   CameraParams camera_;
   PathTraceParams params_{};
   BuiltProgram program_;

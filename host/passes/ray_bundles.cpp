@@ -36,18 +36,23 @@ std::size_t fragment_allocation(const BundleSize& size, std::uint32_t bins) {
 }
 }  // namespace
 
-std::size_t estimate_bundle_memory(const BundleSize& size, std::uint32_t bins, std::size_t pixels) {
-  std::size_t tiles_per_side = bundle_tiles_per_side(bins + 1), tiles = tiles_per_side * tiles_per_side + 1;
-  return fragment_allocation(size, bins) * kFragmentBytes + tiles * 3 * sizeof(cl_uint) +
-         size.patches * (4 * sizeof(cl_uint) + 2 * sizeof(cl_float4)) +
-         size.elements * (sizeof(BundleElement) + 2 * sizeof(cl_uint)) +
-         size.patches * 3 * (sizeof(cl_uint) + sizeof(cl_float4)) +  // Gouraud vertices (at most 3 per patch)
-         pixels * (sizeof(EyeHit) + sizeof(cl_float4));
+std::uint32_t bundle_chains(const RayBundleSettings& settings) {
+  return settings.weight_mode == BP_WEIGHTS_PRODUCT && settings.keep_raw ? 2u : 1u;
 }
 
-void check_bundle_memory(const DeviceInfo& device, const BundleSize& size, std::uint32_t bins, std::size_t pixels) {
-  const std::size_t need = estimate_bundle_memory(size, bins, pixels);
-  const std::size_t largest = fragment_allocation(size, bins) * sizeof(cl_float4);
+std::size_t estimate_bundle_memory(const BundleSize& size, std::uint32_t bins, std::size_t pixels, std::uint32_t chains) {
+  std::size_t tiles_per_side = bundle_tiles_per_side(bins + 1), tiles = tiles_per_side * tiles_per_side + 1;
+  return fragment_allocation(size, bins) * (kFragmentBytes + (chains - 1) * 2 * sizeof(cl_float4)) +
+         tiles * 3 * sizeof(cl_uint) + size.patches * (4 * sizeof(cl_uint) + 2 * chains * sizeof(cl_float4)) +
+         size.elements * (sizeof(BundleElement) + 2 * sizeof(cl_uint)) +
+         size.patches * 3 * (sizeof(cl_uint) + chains * sizeof(cl_float4)) +  // Gouraud vertices (at most 3 per patch)
+         pixels * (sizeof(EyeHit) + 2 * sizeof(cl_float4));
+}
+
+void check_bundle_memory(const DeviceInfo& device, const BundleSize& size, std::uint32_t bins, std::size_t pixels,
+                         std::uint32_t chains) {
+  const std::size_t need = estimate_bundle_memory(size, bins, pixels, chains);
+  const std::size_t largest = fragment_allocation(size, bins) * chains * sizeof(cl_float4);
   // Leave a quarter of the device for the scene, the path tracer and the driver.
   if (need > device.global_memory_bytes / 4 * 3 || largest > device.max_alloc_bytes)
     throw std::invalid_argument(
@@ -59,10 +64,13 @@ void check_bundle_memory(const DeviceInfo& device, const BundleSize& size, std::
 }
 
 RayBundlePass::RayBundlePass(const DeviceContext& device, const DeviceScene& scene, const BundleGeometry& geometry,
-                             const CameraParams& camera, const RayBundleSettings& settings)
+                             const CameraParams& camera, const RayBundleSettings& settings, Accumulator& accum)
     : device_(device),
       scene_(scene),
+      accum_(accum),
       settings_(settings),
+      chains_(bundle_chains(settings)),
+      eye_outputs_(settings.keep_raw ? 2u : 1u),
       camera_(camera),
       bins_(settings.bins ? settings.bins : default_bins(BundleSize{geometry.elements.size(),
                                                                      geometry.patch_element.size(),
@@ -94,9 +102,10 @@ RayBundlePass::RayBundlePass(const DeviceContext& device, const DeviceScene& sce
   patch_vertices_ = upload_buffer(device, "patch vertices", geometry.patch_vertices);
   vertex_patch_start_ = upload_buffer(device, "vertex patch offsets", geometry.vertex_patch_start);
   vertex_patches_ = upload_buffer(device, "vertex patches", geometry.vertex_patches);
-  e_vertex_ = make_buffer(device, "vertex irradiance", CL_MEM_READ_WRITE, vertex_count_ * sizeof(cl_float4));
-  e_in_ = make_buffer(device, "patch irradiance", CL_MEM_READ_WRITE, patch_count_ * sizeof(cl_float4));
-  l_out_ = make_buffer(device, "patch outgoing radiance", CL_MEM_READ_WRITE, patch_count_ * sizeof(cl_float4));
+  e_vertex_ = make_buffer(device, "vertex irradiance", CL_MEM_READ_WRITE, vertex_count_ * chains_ * sizeof(cl_float4));
+  e_in_ = make_buffer(device, "patch irradiance", CL_MEM_READ_WRITE, patch_count_ * chains_ * sizeof(cl_float4));
+  l_out_ =
+      make_buffer(device, "patch outgoing radiance", CL_MEM_READ_WRITE, patch_count_ * chains_ * sizeof(cl_float4));
   fragment_counts_ = make_buffer(device, "fragment counts", CL_MEM_READ_WRITE, element_count_ * sizeof(cl_uint));
   fragment_offsets_ =
       make_buffer(device, "fragment offsets", CL_MEM_READ_WRITE, (element_count_ + 1) * sizeof(cl_uint));
@@ -104,12 +113,13 @@ RayBundlePass::RayBundlePass(const DeviceContext& device, const DeviceScene& sce
   tile_start_ = make_buffer(device, "tile starts", CL_MEM_READ_WRITE, (tile_count_ + 1) * sizeof(cl_uint));
   tile_cursor_ = make_buffer(device, "tile cursors", CL_MEM_READ_WRITE, (tile_count_ + 1) * sizeof(cl_uint));
   eye_hits_buffer_ = make_buffer(device, "eye hits", CL_MEM_READ_WRITE, pixel_count_ * sizeof(EyeHit));
-  pixel_sum_ = make_buffer(device, "eye estimate sums", CL_MEM_READ_WRITE, pixel_count_ * sizeof(cl_float4));
-  device.queue.enqueueFillBuffer(e_in_, cl_float4{{0, 0, 0, 0}}, 0, patch_count_ * sizeof(cl_float4));
-  device.queue.enqueueFillBuffer(pixel_sum_, cl_float4{{0, 0, 0, 0}}, 0, pixel_count_ * sizeof(cl_float4));
+  pixel_sum_ =
+      make_buffer(device, "eye estimate sums", CL_MEM_READ_WRITE, pixel_count_ * eye_outputs_ * sizeof(cl_float4));
+  device.queue.enqueueFillBuffer(e_in_, cl_float4{{0, 0, 0, 0}}, 0, patch_count_ * chains_ * sizeof(cl_float4));
+  device.queue.enqueueFillBuffer(pixel_sum_, cl_float4{{0, 0, 0, 0}}, 0, pixel_count_ * eye_outputs_ * sizeof(cl_float4));
   ensure_fragment_capacity(fragment_allocation(
       BundleSize{element_count_, patch_count_, geometry.element_area, geometry.radius}, bins_));
-  host_pixel_sum_.resize(pixel_count_);
+  host_pixel_sum_.resize(pixel_count_ * eye_outputs_);
 }
 
 void RayBundlePass::ensure_fragment_capacity(std::size_t fragments) {
@@ -123,8 +133,10 @@ void RayBundlePass::ensure_fragment_capacity(std::size_t fragments) {
   tiled_depth_ = make_buffer(device_, "tiled fragment depths", CL_MEM_READ_WRITE, n * sizeof(cl_float));
   tiled_element_ = make_buffer(device_, "tiled fragment elements", CL_MEM_READ_WRITE, n * sizeof(cl_uint));
   tile_order_ = make_buffer(device_, "tile order", CL_MEM_READ_WRITE, n * sizeof(cl_uint));
-  received_minus_ = make_buffer(device_, "received radiance (-omega side)", CL_MEM_READ_WRITE, n * sizeof(cl_float4));
-  received_plus_ = make_buffer(device_, "received radiance (+omega side)", CL_MEM_READ_WRITE, n * sizeof(cl_float4));
+  received_minus_ =
+      make_buffer(device_, "received radiance (-omega side)", CL_MEM_READ_WRITE, n * chains_ * sizeof(cl_float4));
+  received_plus_ =
+      make_buffer(device_, "received radiance (+omega side)", CL_MEM_READ_WRITE, n * chains_ * sizeof(cl_float4));
   fragment_capacity_ = n;
 }
 
@@ -158,6 +170,10 @@ BundleIteration RayBundlePass::iteration_params(std::uint64_t iteration) const {
   it.offset_v = ov;
   it.bins_per_side = bins_ + 1;
   it.fragment_capacity = cl_uint(fragment_capacity_);
+  it.weight_mode = settings_.weight_mode;
+  it.chains = chains_;
+  it.weight_ratio = settings_.weight_ratio;
+  it.eye_outputs = eye_outputs_;
   return it;
 }
 
@@ -237,7 +253,8 @@ std::uint64_t RayBundlePass::iterate(std::uint64_t iteration) {
   return fragments;
 }
 
-BatchCounts RayBundlePass::run(std::uint64_t first, std::uint32_t count, Accumulator& accum) {
+BatchCounts RayBundlePass::run(std::uint64_t first, std::uint32_t count) {
+  Accumulator& accum = accum_;
   BatchCounts counts;
   if (!warmed_up_) {
     for (std::uint32_t w = 0; w < settings_.warmup; ++w) counts.fragments += iterate(w);
@@ -266,8 +283,9 @@ BatchCounts RayBundlePass::run(std::uint64_t first, std::uint32_t count, Accumul
       vertex_.setArg(2, elements_);
       vertex_.setArg(3, patch_element_);
       vertex_.setArg(4, e_in_);
-      vertex_.setArg(5, as_uint(vertex_count_));
-      vertex_.setArg(6, e_vertex_);
+      vertex_.setArg(5, it);
+      vertex_.setArg(6, as_uint(vertex_count_));
+      vertex_.setArg(7, e_vertex_);
       launcher_.launch("rb_vertex", vertex_, vertex_count_, 64);
     }
     eye_.setArg(0, eye_hits_buffer_);
@@ -284,14 +302,19 @@ BatchCounts RayBundlePass::run(std::uint64_t first, std::uint32_t count, Accumul
     launcher_.launch("rb_eye", eye_, pixel_count_, 64);
   }
   launcher_.finish();
-  device_.queue.enqueueReadBuffer(pixel_sum_, CL_TRUE, 0, pixel_count_ * sizeof(cl_float4), host_pixel_sum_.data());
-  device_.queue.enqueueFillBuffer(pixel_sum_, cl_float4{{0, 0, 0, 0}}, 0, pixel_count_ * sizeof(cl_float4));
+  const std::size_t bytes = host_pixel_sum_.size() * sizeof(cl_float4);
+  device_.queue.enqueueReadBuffer(pixel_sum_, CL_TRUE, 0, bytes, host_pixel_sum_.data());
+  device_.queue.enqueueFillBuffer(pixel_sum_, cl_float4{{0, 0, 0, 0}}, 0, bytes);
   for (std::size_t i = 0; i < pixel_count_; ++i) {
-    const cl_float4& s = host_pixel_sum_[i];
-    for (int c = 0; c < 3; ++c) {
-      if (std::isfinite(s.s[c])) accum.sum[i * 3 + c] += double(s.s[c]);
-      else ++counts.nonfinite_samples;
+    const cl_float4& w = host_pixel_sum_[i * eye_outputs_];
+    const cl_float4& raw = host_pixel_sum_[i * eye_outputs_ + eye_outputs_ - 1];
+    if (!std::isfinite(w.s[0] + w.s[1] + w.s[2] + raw.s[0] + raw.s[1] + raw.s[2])) {
+      ++counts.nonfinite_samples;  // a pixel's batch is dropped whole, and counted
+      continue;
     }
+    for (int c = 0; c < 3; ++c) accum.sum[i * 3 + c] += double(w.s[c]);
+    if (accum.keeps_raw())
+      for (int c = 0; c < 3; ++c) accum.raw_sum[i * 3 + c] += double(raw.s[c]);
   }
   accum.samples_per_pixel += count;
   return counts;
@@ -308,11 +331,11 @@ std::vector<T> read_all(const DeviceContext& device, Launcher& launcher, const c
 }  // namespace
 
 std::vector<cl_float4> RayBundlePass::read_patch_irradiance() {
-  return read_all<cl_float4>(device_, launcher_, e_in_, patch_count_);
+  return read_all<cl_float4>(device_, launcher_, e_in_, patch_count_ * chains_);
 }
 
 std::vector<cl_float4> RayBundlePass::read_patch_outgoing() {
-  return read_all<cl_float4>(device_, launcher_, l_out_, patch_count_);
+  return read_all<cl_float4>(device_, launcher_, l_out_, patch_count_ * chains_);
 }
 
 std::vector<cl_uint> RayBundlePass::read_fragment_counts() {

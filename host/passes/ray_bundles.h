@@ -19,6 +19,9 @@ struct RayBundleSettings {
   std::uint32_t warmup = 0;           // iterations run before the first eye estimate is kept
   std::uint32_t jitter_refresh = 16;  // iterations between new jittered primary hits per pixel
   bool gouraud = true;                // interpolate E_in across patches in the eye estimate
+  std::uint32_t weight_mode = BP_WEIGHTS_NONE;
+  float weight_ratio = 1.0f;          // N2 / N1
+  bool keep_raw = false;              // also the unweighted image (rb_raw)
 };
 
 // Bins per side so that an element of average area covers `bins_per_element` bins on average
@@ -28,19 +31,26 @@ std::uint32_t default_bins(const BundleSize& size, double bins_per_element = 4.0
 // Expected fragments per iteration: sum of projected areas over the bin area, exact in expectation.
 double expected_fragments(const BundleSize& size, std::uint32_t bins);
 
+// Radiance chains the pass keeps per patch and fragment: the weighted one, plus the unweighted one
+// when --weights product must also give rb_raw.
+std::uint32_t bundle_chains(const RayBundleSettings& settings);
+
 // Device memory the pass will allocate (host memory alike), for the check before allocating.
-std::size_t estimate_bundle_memory(const BundleSize& size, std::uint32_t bins, std::size_t pixels);
+std::size_t estimate_bundle_memory(const BundleSize& size, std::uint32_t bins, std::size_t pixels,
+                                   std::uint32_t chains = 1);
 
 // Throws std::invalid_argument naming --bins / --patch-size when the estimate does not fit the device.
-void check_bundle_memory(const DeviceInfo& device, const BundleSize& size, std::uint32_t bins, std::size_t pixels);
+void check_bundle_memory(const DeviceInfo& device, const BundleSize& size, std::uint32_t bins, std::size_t pixels,
+                         std::uint32_t chains = 1);
 
 class RayBundlePass : public ProgressivePass {
  public:
+  // Adds its eye estimates into `accum` (sized like the camera's image; raw too if it keeps raw).
   RayBundlePass(const DeviceContext& device, const DeviceScene& scene, const BundleGeometry& geometry,
-                const CameraParams& camera, const RayBundleSettings& settings);
+                const CameraParams& camera, const RayBundleSettings& settings, Accumulator& accum);
 
   // Iterations [first, first + count) (after the warm-up, run on the first call).
-  BatchCounts run(std::uint64_t first, std::uint32_t count, Accumulator& accum) override;
+  BatchCounts run(std::uint64_t first, std::uint32_t count) override;
   std::uint32_t max_batch() const override { return 64; }
   const Launcher& launcher() const override { return launcher_; }
   const BuiltProgram& program() const override { return program_; }
@@ -50,7 +60,7 @@ class RayBundlePass : public ProgressivePass {
 
   // One iteration without an eye estimate (the warm-up, and tests that read patch radiance).
   std::uint64_t iterate(std::uint64_t iteration);
-  // E_in = L_in cos(theta_in) of every patch after the last iteration (RGBA).
+  // E_in = L_in cos(theta_in) of every patch after the last iteration (RGBA; `chains` per patch).
   std::vector<cl_float4> read_patch_irradiance();
   // L_out of every patch in the last iteration, and the bins each element covered (for tests).
   std::vector<cl_float4> read_patch_outgoing();
@@ -63,7 +73,9 @@ class RayBundlePass : public ProgressivePass {
 
   const DeviceContext& device_;
   const DeviceScene& scene_;
+  Accumulator& accum_;
   RayBundleSettings settings_;
+  std::uint32_t chains_, eye_outputs_;
   CameraParams camera_;
   std::uint32_t bins_;
   std::size_t element_count_, patch_count_, pixel_count_, tile_count_;

@@ -12,7 +12,7 @@ std::uint32_t batch_size(std::uint64_t done, std::uint64_t target, std::uint32_t
   return std::uint32_t(size);
 }
 
-RenderOutcome run_progressive(ProgressivePass& pass, Accumulator& accum, const RenderBudget& budget,
+RenderOutcome run_progressive(ProgressivePass& pass, const RenderBudget& budget,
                               const std::atomic<bool>& stop_requested,
                               const std::function<void(const RenderProgress&)>& on_progress) {
   using clock = std::chrono::steady_clock;
@@ -24,7 +24,7 @@ RenderOutcome run_progressive(ProgressivePass& pass, Accumulator& accum, const R
     if (budget.seconds > 0.0 && elapsed >= budget.seconds) break;
     if (stop_requested.load()) { out.interrupted = true; break; }
     std::uint32_t n = batch_size(out.rounds, budget.rounds, pass.max_batch());
-    BatchCounts counts = pass.run(out.rounds, n, accum);
+    BatchCounts counts = pass.run(out.rounds, n);
     out.rounds += n;
     out.rays += counts.rays;
     out.fragments += counts.fragments;

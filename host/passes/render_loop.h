@@ -36,7 +36,7 @@ struct RenderOutcome {
 // early) up to max_batch.
 std::uint32_t batch_size(std::uint64_t done, std::uint64_t target, std::uint32_t max_batch);
 
-RenderOutcome run_progressive(ProgressivePass& pass, Accumulator& accum, const RenderBudget& budget,
+RenderOutcome run_progressive(ProgressivePass& pass, const RenderBudget& budget,
                               const std::atomic<bool>& stop_requested,
                               const std::function<void(const RenderProgress&)>& on_progress);
 

@@ -2,6 +2,7 @@
 #ifndef BP_SHARED_BUNDLE_TYPES_H
 #define BP_SHARED_BUNDLE_TYPES_H
 #include "shared/compat.h"
+#include "shared/types.h"
 
 #define BP_NO_PATCH 0xffffffffu
 
@@ -45,7 +46,14 @@ typedef struct {
   bp_u32 bins_per_side;   // R + 1 (the offset grid needs one more bin than R to cover the sphere)
   float omega_prev[3];    // previous iteration's direction (its incoming radiance is reflected now)
   bp_u32 fragment_capacity;
+  bp_u32 weight_mode;     // BP_WEIGHTS_*: how chain 0 is weighted (DESIGN.md §3)
+  bp_u32 chains;          // radiance values per patch and fragment: 1, or 2 with the raw chain
+  float weight_ratio;     // N2 / N1
+  bp_u32 eye_outputs;     // per pixel: 1 (weighted), or 2 (weighted, raw)
 } BundleIteration;
+
+// Chain 1, when present, is the unweighted chain of --weights product (the rb_raw layer). In the
+// paper's mode chain 0 is unweighted and its .w carries ln of the paper's P (eq. 10) of the radiance.
 
 // One cached primary hit per pixel: the patch the eye sees and where on it.
 typedef struct {

@@ -37,6 +37,9 @@ BP_FN void path_pdf_step(PathPdf* p, float continuation, float pdf_uv) {
   p->log_q = log(continuation) + log(pdf_uv) + log_q_prev;           // q_k = s p q_{k-1}               (9)
 }
 
+// One vertex's beta of the product weights (kernels/shared/weights.h), kept as a logarithm.
+BP_FN void path_pdf_multiply_beta(PathPdf* p, float beta) { p->log_beta_product += log(beta); }
+
 // ln P* = ln(q + r), the prefix density when ended walks continue uniformly (eq. 8).
 BP_FN float path_pdf_log_pstar(const PathPdf* p) { return log_add_exp(p->log_q, p->log_r); }
 
@@ -48,7 +51,7 @@ BP_FN float pt_emission_weight(const PathPdf* p, bp_u32 mode, float ratio_n2_ove
     float x = path_pdf_log_pstar(p) - log(ratio_n2_over_n1);
     return 1.0f / (1.0f + exp(-x));
   }
-  if (mode == BP_WEIGHTS_PRODUCT) return 1.0f - exp(p->log_beta_product);  // w_PT = 1 - prod beta
+  if (mode == BP_WEIGHTS_PRODUCT) return -expm1(p->log_beta_product);  // w_PT = 1 - prod beta, precise near 1
   return 1.0f;
 }
 

@@ -57,12 +57,12 @@ typedef struct {
 #define BP_WEIGHTS_PAPER 1u
 #define BP_WEIGHTS_PRODUCT 2u
 
-// Per-pixel counters the path tracer writes each launch (no atomics: one work-item per pixel).
+// Per-pixel sums the path tracer writes each launch (no atomics: one work-item per pixel).
 typedef struct {
-  float radiance[3];
+  float weighted[3];         // sum of w_PT-weighted samples (the pt layer)
   bp_u32 rays;               // rays traced for this pixel in this launch
+  float raw[3];              // sum of unweighted samples (pt_raw; equal to weighted without weights)
   bp_u32 nonfinite_samples;  // samples dropped because they were NaN or Inf
-  bp_u32 pad0, pad1, pad2;
 } PixelAccum;
 
 #endif  // BP_SHARED_TYPES_H

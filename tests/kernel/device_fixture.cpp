@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "device/device_scene.h"
+#include "passes/combined.h"
 #include "passes/path_tracer.h"
 #include "scene/bvh.h"
 #include "scene/patches.h"
@@ -23,12 +24,12 @@ RenderRun render_pt(const Scene& scene, int width, int height, std::uint64_t spp
   PathTracerSettings settings;
   settings.seed = seed;
   settings.max_depth = max_depth;
-  PathTracerPass pass(device, device_scene, pack_camera(scene.camera, width, height), ray_epsilon_for(scene.bounds),
-                      settings);
   Accumulator accum(width, height);
+  PathTracerPass pass(device, device_scene, pack_camera(scene.camera, width, height), ray_epsilon_for(scene.bounds),
+                      settings, accum);
   std::atomic<bool> never{false};
   RenderRun run;
-  run.outcome = run_progressive(pass, accum, RenderBudget{spp, 0.0}, never, nullptr);
+  run.outcome = run_progressive(pass, RenderBudget{spp, 0.0}, never, nullptr);
   run.image = accum.mean();
   return run;
 }
@@ -47,17 +48,17 @@ std::unique_ptr<BundleRig> make_bundle_rig(const Scene& scene, float patch_size,
   settings.seed = seed;
   settings.bins = bins;
   settings.warmup = warmup;
+  rig->accum = Accumulator(width, height);
   rig->pass = std::make_unique<RayBundlePass>(test_device(), *rig->device_scene, rig->geometry,
-                                              pack_camera(rig->scene.camera, width, height), settings);
+                                              pack_camera(rig->scene.camera, width, height), settings, rig->accum);
   return rig;
 }
 
 RenderRun render_rb(BundleRig& rig, std::uint64_t iterations) {
-  Accumulator accum(int(rig.pass->pixel_width()), int(rig.pass->pixel_height()));
   std::atomic<bool> never{false};
   RenderRun run;
-  run.outcome = run_progressive(*rig.pass, accum, RenderBudget{iterations, 0.0}, never, nullptr);
-  run.image = accum.mean();
+  run.outcome = run_progressive(*rig.pass, RenderBudget{iterations, 0.0}, never, nullptr);
+  run.image = rig.accum.mean();
   return run;
 }
 
@@ -90,6 +91,60 @@ double parallel_rectangles_form_factor(double a, double b, double c) {
   const double t2 = x * std::sqrt(1 + y * y) * std::atan(x / std::sqrt(1 + y * y));
   const double t3 = y * std::sqrt(1 + x * x) * std::atan(y / std::sqrt(1 + x * x));
   return 2.0 / (M_PI * x * y) * (t1 + t2 + t3 - x * std::atan(x) - y * std::atan(y));
+}
+
+CombinedRun render_combined(const Scene& scene, int width, int height, const CombinedSettings& cs) {
+  const DeviceContext& device = test_device();
+  PatchLayout patches = build_patch_layout(scene, cs.patch_size);
+  FlatBvh bvh = build_bvh(scene.triangles);
+  BundleGeometry geometry = build_bundle_geometry(scene, patches);
+  DeviceScene device_scene(device, bvh, pack_triangle_shading(scene, patches), pack_materials(scene));
+  const CameraParams camera = pack_camera(scene.camera, width, height);
+  const float ratio = float(cs.rb_iterations_per_round) / float(cs.pt_samples_per_round);  // N2 / N1
+  Accumulator pt_accum(width, height), rb_accum(width, height);
+  PathTracerSettings pts;
+  pts.seed = cs.seed;
+  pts.weight_mode = cs.weight_mode;
+  pts.weight_ratio = ratio;
+  PathTracerPass pt(device, device_scene, camera, ray_epsilon_for(scene.bounds), pts, pt_accum);
+  RayBundleSettings rbs;
+  rbs.seed = cs.seed;
+  rbs.bins = cs.bins;
+  rbs.warmup = cs.warmup;
+  rbs.weight_mode = cs.weight_mode;
+  rbs.weight_ratio = ratio;
+  RayBundlePass rb(device, device_scene, geometry, camera, rbs, rb_accum);
+  CombinedPass combined(pt, rb, RoundShape{cs.pt_samples_per_round, cs.rb_iterations_per_round});
+  std::atomic<bool> never{false};
+  CombinedRun run;
+  run.outcome = run_progressive(combined, RenderBudget{cs.rounds, 0.0}, never, nullptr);
+  run.pt = pt_accum.mean();
+  run.rb = rb_accum.mean();
+  run.combined = run.pt;
+  for (std::size_t i = 0; i < run.combined.rgb.size(); ++i) run.combined.rgb[i] += run.rb.rgb[i];
+  return run;
+}
+
+Scene make_glossy_light_box() {
+  SceneMaterial walls, floor, light;
+  walls.kd = glm::vec3(0.6f, 0.55f, 0.5f);
+  floor.kd = glm::vec3(0.3f);
+  floor.ks = glm::vec3(0.5f);
+  floor.shininess = 30.0f;
+  light.kd = glm::vec3(0.0f);
+  light.emission = glm::vec3(8.0f);
+  Scene scene = make_closed_box(0.5f, walls);
+  scene.materials = {walls, floor, light};
+  for (SceneTriangle& t : scene.triangles)
+    if (t.p[0].y == -0.5f && t.p[1].y == -0.5f && t.p[2].y == -0.5f) t.material = 1;
+  const float y = 0.499f, a = -0.15f, b = 0.15f;  // facing down: clockwise seen from below
+  scene.triangles.push_back({{{a, y, a}, {b, y, a}, {b, y, b}}, 2});
+  scene.triangles.push_back({{{a, y, a}, {b, y, b}, {a, y, b}}, 2});
+  scene.camera.position = glm::vec3(0.0f, 0.1f, 0.45f);
+  scene.camera.forward = glm::normalize(glm::vec3(0.0f, -0.45f, -1.0f));
+  scene.camera.up = glm::normalize(glm::cross(glm::cross(scene.camera.forward, glm::vec3(0, 1, 0)), scene.camera.forward));
+  scene.camera.yfov = 1.1f;
+  return scene;
 }
 
 Scene make_closed_box(float h, const SceneMaterial& material) {

@@ -26,6 +26,7 @@ RenderRun render_pt(const Scene& scene, int width, int height, std::uint64_t spp
 
 // Everything a ray-bundle test needs, built from a Scene the way the CLI builds it.
 struct BundleRig {
+  Accumulator accum;
   Scene scene;
   PatchLayout patches;
   FlatBvh bvh;
@@ -46,6 +47,24 @@ Scene make_parallel_squares(float side, float distance, float le);
 
 // Closed-form form factor between two directly opposed parallel rectangles a x b at distance c.
 double parallel_rectangles_form_factor(double a, double b, double c);
+
+// The three images of a combined render (--mode combined).
+struct CombinedRun {
+  ImageRGB pt, rb, combined;
+  RenderOutcome outcome;
+};
+struct CombinedSettings {
+  std::uint32_t weight_mode = BP_WEIGHTS_PRODUCT;
+  std::uint32_t pt_samples_per_round = 1, rb_iterations_per_round = 4;
+  std::uint64_t rounds = 16;
+  std::uint32_t seed = 1, bins = 0, warmup = 16;
+  float patch_size = 0.1f;
+};
+CombinedRun render_combined(const Scene& scene, int width, int height, const CombinedSettings& settings);
+
+// A closed 1 m box seen from inside: glossy floor (kd 0.3, ks 0.5, n 30), grey Lambert walls, and a
+// 0.3 m square light (Le 8) just below the ceiling, facing down.
+Scene make_glossy_light_box();
 
 // A closed axis-aligned box [-h,h]^3 seen from inside: 12 triangles facing inwards, one material.
 Scene make_closed_box(float half_size, const SceneMaterial& material);

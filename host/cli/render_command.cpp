@@ -1,0 +1,267 @@
+// bundlepath render: scene -> device -> passes (pt, rb, or both combined) -> layers -> files.
+#include "cli/commands.h"
+
+#include "cli/interrupt.h"
+#include "cli/progress.h"
+#include "device/device_context.h"
+#include "device/device_scene.h"
+#include "image/accumulator.h"
+#include "image/contact_sheet.h"
+#include "image/image.h"
+#include "image/stats_io.h"
+#include "passes/combined.h"
+#include "passes/path_tracer.h"
+#include "passes/ray_bundles.h"
+#include "passes/render_loop.h"
+#include "scene/bundle_geometry.h"
+#include "scene/bvh.h"
+#include "scene/gltf_loader.h"
+#include "scene/patches.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <optional>
+
+namespace bp {
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+std::uint32_t weight_mode_of(const RenderOptions& o) {
+  if (o.mode != "combined" || o.weights == "none") return BP_WEIGHTS_NONE;
+  return o.weights == "paper" ? BP_WEIGHTS_PAPER : BP_WEIGHTS_PRODUCT;
+}
+
+ImageRGB sum_images(const ImageRGB& a, const ImageRGB& b) {
+  ImageRGB out = a;
+  for (std::size_t i = 0; i < out.rgb.size(); ++i) out.rgb[i] += b.rgb[i];
+  return out;
+}
+
+// The layers of the output (DESIGN.md §7): "" is the combined image.
+struct Layers {
+  std::vector<std::pair<std::string, ImageRGB>> images;
+  const ImageRGB* find(const std::string& name) const {
+    for (const auto& [n, img] : images)
+      if (n == name) return &img;
+    return nullptr;
+  }
+};
+
+}  // namespace
+
+int run_render(const RenderOptions& o) {
+  using clock = std::chrono::steady_clock;
+  // The reference is read first: a wrong path should not cost a render.
+  std::optional<ImageRGB> reference;
+  if (!o.reference_path.empty()) reference = read_exr(o.reference_path);
+
+  auto t_load = clock::now();
+  Scene scene = load_gltf(o.scene);
+  for (const std::string& w : scene.warnings) std::fprintf(stderr, "bundlepath: warning: %s: %s\n", o.scene.c_str(), w.c_str());
+  double load_seconds = seconds_since(t_load);
+
+  int width = o.width;
+  int height = o.height;
+  if (height == 0)
+    height = scene.camera.aspect > 0.0f ? std::max(1, int(std::lround(width / scene.camera.aspect))) : width;
+  if (reference && (reference->width != width || reference->height != height))
+    throw UsageError("--reference " + o.reference_path + " is " + std::to_string(reference->width) + "x" +
+                     std::to_string(reference->height) + " but the render is " + std::to_string(width) + "x" +
+                     std::to_string(height) + " (set --width/--height to match)");
+
+  float patch_size = o.patch_size > 0.0f ? o.patch_size : default_patch_size(scene);
+  PatchLayout patches;
+  try {
+    patches = build_patch_layout(scene, patch_size);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
+  auto t_bvh = clock::now();
+  FlatBvh bvh = build_bvh(scene.triangles);
+  double bvh_seconds = seconds_since(t_bvh);
+
+  const bool use_pt = o.mode != "rb", use_rb = o.mode != "pt";
+  const std::uint32_t weight_mode = weight_mode_of(o);
+  std::optional<RoundShape> shape;
+  if (o.mode == "combined") {
+    try {
+      shape = round_shape(o.ratio);
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(e.what());
+    }
+  }
+  const float ratio_n2_over_n1 = shape ? float(1.0 / shape->ratio()) : 1.0f;
+
+  DeviceContext device(select_device(o.device));
+  DeviceScene device_scene(device, bvh, pack_triangle_shading(scene, patches), pack_materials(scene));
+  const CameraParams camera = pack_camera(scene.camera, width, height);
+  Accumulator pt_accum(width, height, o.all_layers), rb_accum(width, height, o.all_layers);
+
+  std::unique_ptr<PathTracerPass> pt;
+  if (use_pt) {
+    PathTracerSettings settings;
+    settings.seed = o.seed;
+    settings.max_depth = o.max_depth;
+    settings.weight_mode = weight_mode;
+    settings.weight_ratio = ratio_n2_over_n1;
+    pt = std::make_unique<PathTracerPass>(device, device_scene, camera, ray_epsilon_for(scene.bounds), settings, pt_accum);
+  }
+  std::unique_ptr<RayBundlePass> rb;
+  std::optional<BundleGeometry> geometry;
+  RayBundleSettings rb_settings;
+  if (use_rb) {
+    const BundleSize size = bundle_size(scene, patches);
+    rb_settings.seed = o.seed;
+    rb_settings.bins = o.bins ? o.bins : default_bins(size);
+    rb_settings.warmup = o.warmup;
+    rb_settings.gouraud = o.gouraud;
+    rb_settings.weight_mode = weight_mode;
+    rb_settings.weight_ratio = ratio_n2_over_n1;
+    rb_settings.keep_raw = o.all_layers;
+    try {
+      check_bundle_memory(device.info, size, rb_settings.bins, std::size_t(width) * height, bundle_chains(rb_settings));
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(e.what());
+    }
+    geometry = build_bundle_geometry(scene, patches);
+    rb = std::make_unique<RayBundlePass>(device, device_scene, *geometry, camera, rb_settings, rb_accum);
+  }
+  std::unique_ptr<CombinedPass> combined;
+  ProgressivePass* pass = pt ? static_cast<ProgressivePass*>(pt.get()) : rb.get();
+  std::uint64_t rounds = o.mode == "rb" ? o.iterations : o.spp;
+  if (shape) {
+    combined = std::make_unique<CombinedPass>(*pt, *rb, *shape);
+    pass = combined.get();
+    rounds = o.spp ? (o.spp + shape->pt_samples - 1) / shape->pt_samples
+                   : (o.iterations + shape->rb_iterations - 1) / shape->rb_iterations;
+  }
+
+  install_interrupt_handlers();
+  std::fprintf(stderr, "bundlepath: rendering %s (%dx%d, %s%s, %zu triangles, %u patches) on %s\n", o.scene.c_str(),
+               width, height, o.mode.c_str(), shape ? (", weights " + o.weights).c_str() : "",
+               scene.triangles.size(), patches.patch_count, device.description().c_str());
+  ProgressBar bar(o.mode);
+  const double pixels = double(width) * height;
+  const double samples_per_round = shape ? shape->pt_samples * pixels : (o.mode == "pt" ? pixels : 1.0);
+  RenderOutcome outcome = run_progressive(*pass, RenderBudget{rounds, o.seconds}, stop_requested(),
+                                          [&](const RenderProgress& p) {
+                                            double secs = std::max(p.elapsed_seconds, 1e-9);
+                                            bar.update(p.fraction, double(p.rounds_done) * samples_per_round / secs,
+                                                       double(p.rays) / secs * 1e-6, p.elapsed_seconds,
+                                                       o.mode == "rb" ? "iterations/s" : "samples/s");
+                                          });
+  bar.finish();
+
+  // Layers: R,G,B = pt + rb of the weighted images (eq. 3); pt, rb; pt_raw, rb_raw when asked for.
+  Layers layers;
+  ImageRGB pt_image = pt ? pt_accum.mean() : ImageRGB(width, height);
+  ImageRGB rb_image = rb ? rb_accum.mean() : ImageRGB(width, height);
+  layers.images.emplace_back("", sum_images(pt_image, rb_image));
+  if (shape) {
+    layers.images.emplace_back("pt", pt_image);
+    layers.images.emplace_back("rb", rb_image);
+  }
+  if (o.all_layers) {
+    if (pt) layers.images.emplace_back("pt_raw", pt_accum.raw_mean());
+    if (rb) layers.images.emplace_back("rb_raw", rb_accum.raw_mean());
+  }
+
+  std::filesystem::path prefix(o.out_prefix);
+  if (prefix.has_parent_path()) std::filesystem::create_directories(prefix.parent_path());
+  const std::string exr_path = o.out_prefix + ".exr", png_path = o.out_prefix + ".png";
+  std::vector<ImageLayer> exr_layers;
+  for (const auto& [name, img] : layers.images) exr_layers.push_back({name, &img});
+  write_exr(exr_path, exr_layers);
+  write_png(png_path, layers.images.front().second, o.exposure);
+  if (!o.contact_sheet_path.empty()) {
+    const ImageRGB* combined_image = &layers.images.front().second;
+    write_contact_sheet(o.contact_sheet_path,
+                        {{"non-weighted PT", layers.find("pt_raw")},
+                         {"weighted PT", shape ? layers.find("pt") : nullptr},
+                         {"combined", combined_image},
+                         {"non-weighted RB", layers.find("rb_raw")},
+                         {"weighted RB", shape ? layers.find("rb") : nullptr},
+                         {"reference", reference ? &*reference : nullptr}},
+                        o.exposure);
+  }
+
+  nlohmann::json metrics;
+  if (reference) {
+    for (const auto& [name, img] : layers.images) {
+      ErrorMetrics m = compare_images(img, *reference);
+      const std::string key = name.empty() ? "combined" : name;
+      metrics[key] = {{"rel_mse", m.rel_mse}, {"rmse", m.rmse}, {"mean_bias", m.mean_bias}};
+      std::fprintf(stderr, "bundlepath: %-8s vs reference: relMSE %.4g  RMSE %.4g  mean bias %+.4g\n", key.c_str(),
+                   m.rel_mse, m.rmse, m.mean_bias);
+    }
+  }
+
+  const std::uint64_t pt_samples = shape ? outcome.rounds * shape->pt_samples : (pt ? outcome.rounds : 0);
+  const std::uint64_t rb_iterations = shape ? outcome.rounds * shape->rb_iterations : (rb ? outcome.rounds : 0);
+  double mrays_per_second = outcome.seconds > 0 ? double(outcome.rays) / outcome.seconds * 1e-6 : 0.0;
+  if (!o.stats_path.empty()) {
+    nlohmann::json stats;
+    stats["scene"] = o.scene;
+    stats["device"] = device.description();
+    stats["mode"] = o.mode;
+    stats["width"] = width;
+    stats["height"] = height;
+    stats["spp"] = pt_samples;
+    stats["seed"] = o.seed;
+    stats["triangles"] = scene.triangles.size();
+    stats["patches"] = patches.patch_count;
+    stats["patch_size"] = patch_size;
+    stats["load_seconds"] = load_seconds;
+    stats["bvh_build_seconds"] = bvh_seconds;
+    double build_seconds = 0.0;
+    bool from_cache = true;
+    for (const ProgressivePass* part : pass->parts()) {
+      build_seconds += part->program().build_seconds;
+      from_cache = from_cache && part->program().from_cache;
+      for (const auto& [name, t] : part->launcher().totals())
+        stats["launches"][name] = {{"count", t.launches}, {"device_seconds", t.device_seconds}};
+    }
+    stats["kernel_build_seconds"] = build_seconds;
+    stats["kernel_from_cache"] = from_cache;
+    stats["render_seconds"] = outcome.seconds;
+    stats["rays"] = outcome.rays;
+    stats["mrays_per_second"] = mrays_per_second;
+    stats["nan_or_inf_samples"] = outcome.nonfinite_samples;
+    stats["interrupted"] = outcome.interrupted;
+    if (shape) {
+      stats["weights"] = o.weights;
+      stats["ratio"] = shape->ratio();
+      stats["rounds"] = outcome.rounds;
+    }
+    if (rb) {
+      const double iterations = double(rb_iterations) + o.warmup;
+      stats["iterations"] = rb_iterations;
+      stats["warmup_iterations"] = o.warmup;
+      stats["bins"] = rb->bins();
+      stats["elements"] = geometry->elements.size();
+      stats["fragments_per_iteration"] = iterations > 0 ? double(outcome.fragments) / iterations : 0.0;
+      stats["ms_per_iteration"] = rb_iterations && !shape ? outcome.seconds * 1e3 / iterations : 0.0;
+      stats["fragments_per_second"] = outcome.seconds > 0 ? double(outcome.fragments) / outcome.seconds : 0.0;
+    }
+    if (reference) stats["reference"] = {{"path", o.reference_path}, {"layers", metrics}};
+    write_json_file(o.stats_path, stats);
+  }
+  std::string done = shape ? std::to_string(pt_samples) + " spp + " + std::to_string(rb_iterations) + " iterations"
+                     : pt  ? std::to_string(pt_samples) + " spp"
+                           : std::to_string(rb_iterations) + " iterations";
+  std::fprintf(stderr, "bundlepath: %s%s at %dx%d in %.2f s (%.2f Mrays/s) -> %s, %s\n",
+               outcome.interrupted ? "interrupted after " : "", done.c_str(), width, height, outcome.seconds,
+               mrays_per_second, exr_path.c_str(), png_path.c_str());
+  if (outcome.nonfinite_samples)
+    std::fprintf(stderr, "bundlepath: warning: %llu NaN/Inf samples were dropped\n",
+                 static_cast<unsigned long long>(outcome.nonfinite_samples));
+  return outcome.interrupted ? 130 : 0;
+}
+
+}  // namespace bp

@@ -1,0 +1,37 @@
+// The weighted multipass combination (DESIGN.md §1): rounds of PT samples and RB iterations at a fixed
+// ratio c = N1 / N2, so the weights stay right whenever the render stops at a round's end. The
+// combined image is pt + rb of the two weighted accumulators (eq. 3).
+#pragma once
+#include "passes/path_tracer.h"
+#include "passes/ray_bundles.h"
+
+namespace bp {
+
+// One round: pt_samples samples per pixel and rb_iterations iterations; c = pt_samples / rb_iterations.
+struct RoundShape {
+  std::uint32_t pt_samples = 1;
+  std::uint32_t rb_iterations = 1;
+  double ratio() const { return double(pt_samples) / double(rb_iterations); }  // c = N1 / N2
+};
+
+// The smallest integer round whose ratio is c (within 1 %): c >= 1 gives (round(c), 1), c < 1 gives
+// (1, round(1/c)). Throws std::invalid_argument naming --ratio for c outside [1e-6, 1e6] or not finite.
+RoundShape round_shape(double c);
+
+class CombinedPass : public ProgressivePass {
+ public:
+  CombinedPass(PathTracerPass& pt, RayBundlePass& rb, RoundShape shape) : pt_(pt), rb_(rb), shape_(shape) {}
+  BatchCounts run(std::uint64_t first, std::uint32_t count) override;
+  std::uint32_t max_batch() const override;
+  const Launcher& launcher() const override { return pt_.launcher(); }
+  const BuiltProgram& program() const override { return pt_.program(); }
+  std::vector<const ProgressivePass*> parts() const override { return {&pt_, &rb_}; }
+  RoundShape shape() const { return shape_; }
+
+ private:
+  PathTracerPass& pt_;
+  RayBundlePass& rb_;
+  RoundShape shape_;
+};
+
+}  // namespace bp

@@ -1,0 +1,123 @@
+// The combination's invariant (DESIGN.md §3): for any path, the weight the PT kernel code gives it and
+// the weight the RB kernel code gives it sum to one (--weights product, and the paper's weights on a
+// single path), never NaN, never outside [0, 1] -- run on the test device.
+#include "kernel/device_fixture.h"
+
+#include "device/launcher.h"
+#include "device/program_cache.h"
+#include "kernels/shared/brdf.h"
+#include "kernels/shared/path_pdf.h"
+#include "kernels/shared/weights.h"
+
+#include <gtest/gtest.h>
+#include <cmath>
+#include <random>
+
+namespace bp::test {
+namespace {
+
+struct Paths {
+  std::vector<Material> materials;
+  std::vector<float> geometry;  // n, wo, wi per vertex
+};
+
+float3 random_unit(std::mt19937& rng) {
+  std::uniform_real_distribution<float> u(0, 1);
+  float z = 1 - 2 * u(rng), s = std::sqrt(std::max(0.0f, 1 - z * z)), phi = 6.2831853f * u(rng);
+  return make_float3(s * std::cos(phi), s * std::sin(phi), z);
+}
+
+// Random vertices: albedo up to 0.999, shininess up to 1e4, wi mostly sampled from the BSDF itself (so
+// sharp lobes give pdfs near 1e4), sometimes uniform, sometimes nearly grazing.
+Paths make_paths(std::uint32_t paths, std::uint32_t vertices, std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(0, 1);
+  const float shininess[] = {0.0f, 1.0f, 10.0f, 50.0f, 1000.0f, 1.0e4f};
+  Paths p;
+  for (std::uint32_t i = 0; i < paths * vertices; ++i) {
+    Material m{};
+    float albedo = u(rng) < 0.3f ? 0.999f : u(rng), split = u(rng);
+    for (int c = 0; c < 3; ++c) {
+      m.kd[c] = albedo * split;
+      m.ks[c] = albedo * (1 - split);
+    }
+    m.shininess = shininess[std::size_t(u(rng) * 6) % 6];
+    p.materials.push_back(m);
+    Bsdf b = bsdf_from_material(&m);
+    float3 n = random_unit(rng), wo;
+    do wo = random_unit(rng); while (dot(wo, n) <= 0.05f);
+    float3 wi;
+    float pick = u(rng);
+    if (pick < 0.7f) {
+      BsdfSample s;
+      do s = bsdf_sample(&b, n, wo, u(rng), u(rng), u(rng)); while (s.pdf_uv <= 0.0f);
+      wi = s.wi;
+    } else if (pick < 0.9f) {
+      do wi = random_unit(rng); while (dot(wi, n) <= 0.0f);
+    } else {
+      wi = normalize(random_unit(rng) * 0.01f + normalize(cross(n, random_unit(rng))) + n * 1e-3f);
+      if (dot(wi, n) <= 0.0f) wi = n;
+    }
+    for (float3 v : {n, wo, wi}) p.geometry.insert(p.geometry.end(), {v.x, v.y, v.z});
+  }
+  return p;
+}
+
+std::vector<float> run_weights(const Paths& paths, std::uint32_t count, std::uint32_t vertices, std::uint32_t mode,
+                               float ratio) {
+  const DeviceContext& device = test_device();
+  BuiltProgram program = build_program(device, "test/weights_test.cl");
+  cl::Kernel kernel(program.program, "path_weights");
+  cl::Buffer materials = upload_buffer(device, "materials", paths.materials);
+  cl::Buffer geometry = upload_buffer(device, "geometry", paths.geometry);
+  cl::Buffer out = make_buffer(device, "weights", CL_MEM_WRITE_ONLY, 2 * count * sizeof(float));
+  kernel.setArg(0, materials);
+  kernel.setArg(1, geometry);
+  kernel.setArg(2, vertices);
+  kernel.setArg(3, count);
+  kernel.setArg(4, mode);
+  kernel.setArg(5, ratio);
+  kernel.setArg(6, out);
+  Launcher launcher(device);
+  launcher.launch("path_weights", kernel, count, 64);
+  launcher.finish();
+  std::vector<float> w(2 * count);
+  device.queue.enqueueReadBuffer(out, CL_TRUE, 0, w.size() * sizeof(float), w.data());
+  return w;
+}
+
+TEST(CombinationWeights, PtAndRbWeightsOfEveryPathSumToOne) {
+  const std::uint32_t count = 2000;
+  for (std::uint32_t vertices : {1u, 2u, 3u, 8u, 40u, 300u})
+    for (float ratio : {1e-4f, 0.0625f, 1.0f, 16.0f, 1e4f}) {
+      Paths paths = make_paths(count, vertices, 17u + vertices);
+      for (std::uint32_t mode : {BP_WEIGHTS_PRODUCT, BP_WEIGHTS_PAPER, BP_WEIGHTS_NONE}) {
+        std::vector<float> w = run_weights(paths, count, vertices, mode, ratio);
+        // Float products over the path: the tolerance grows with its length.
+        const float tolerance = 2e-6f * float(vertices + 4);
+        int bad = 0;
+        for (std::uint32_t i = 0; i < count && bad < 5; ++i) {
+          float w_pt = w[2 * i], w_rb = w[2 * i + 1];
+          bool ok = std::isfinite(w_pt) && std::isfinite(w_rb) && w_pt >= 0.0f && w_pt <= 1.0f && w_rb >= 0.0f &&
+                    w_rb <= 1.0f;
+          if (mode != BP_WEIGHTS_NONE) ok = ok && std::fabs(w_pt + w_rb - 1.0f) <= tolerance;
+          if (!ok) {
+            ++bad;
+            ADD_FAILURE() << "mode " << mode << ", " << vertices << " vertices, N2/N1 " << ratio << ", path " << i
+                          << ": w_PT " << w_pt << " + w_RB " << w_rb << " = " << w_pt + w_rb;
+          }
+        }
+      }
+    }
+}
+
+TEST(CombinationWeights, DirectlyVisibleEmitterBelongsToRbUnderProductWeights) {
+  // The empty product: a path with no reflection has w_RB = 1, w_PT = 0 (DESIGN.md §3).
+  PathPdf p = path_pdf_start();
+  EXPECT_EQ(pt_emission_weight(&p, BP_WEIGHTS_PRODUCT, 0.25f), 0.0f);
+  // The paper's: the emitter seen directly is split N1 : N2.
+  EXPECT_NEAR(pt_emission_weight(&p, BP_WEIGHTS_PAPER, 0.25f) + paper_rb_weight(0.0f, 0.25f), 1.0f, 1e-6f);
+}
+
+}  // namespace
+}  // namespace bp::test
