@@ -39,11 +39,7 @@ double device_mrays(const bp::DeviceContext& device, const bp::FlatBvh& bvh, con
   cl::Buffer ray_buffer = bp::upload_buffer(device, "rays", packed);
   cl::Buffer hits = bp::make_buffer(device, "hits", CL_MEM_WRITE_ONLY, rays.origin.size() * sizeof(float));
   const cl_uint count = cl_uint(rays.origin.size());
-  kernel.setArg(0, nodes);
-  kernel.setArg(1, tris);
-  kernel.setArg(2, ray_buffer);
-  kernel.setArg(3, count);
-  kernel.setArg(4, hits);
+  bp::set_args(kernel, nodes, tris, ray_buffer, count, hits);
   bp::Launcher launcher(device);
   double best = 1e30;
   for (int r = 0; r <= repeat; ++r) {  // the first launch also compiles for the work-group size

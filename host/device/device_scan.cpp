@@ -29,17 +29,9 @@ void DeviceScan::exclusive(Launcher& launcher, const cl::Buffer& values, std::si
   }
   const cl_uint count = cl_uint(n), chunk = cl_uint(chunk_for(n));
   const cl_uint chunks = cl_uint((n + chunk - 1) / chunk);
-  totals_kernel_.setArg(0, values);
-  totals_kernel_.setArg(1, count);
-  totals_kernel_.setArg(2, chunk);
-  totals_kernel_.setArg(3, totals_);
-  scan_totals_kernel_.setArg(0, totals_);
-  scan_totals_kernel_.setArg(1, chunks);
-  chunks_kernel_.setArg(0, values);
-  chunks_kernel_.setArg(1, count);
-  chunks_kernel_.setArg(2, chunk);
-  chunks_kernel_.setArg(3, totals_);
-  chunks_kernel_.setArg(4, offsets);
+  set_args(totals_kernel_, values, count, chunk, totals_);
+  set_args(scan_totals_kernel_, totals_, chunks);
+  set_args(chunks_kernel_, values, count, chunk, totals_, offsets);
   launcher.launch("scan_chunk_totals", totals_kernel_, chunks, 64);
   launcher.launch("scan_totals", scan_totals_kernel_, 1, 1);
   launcher.launch("scan_chunks", chunks_kernel_, chunks, 64);

@@ -32,6 +32,13 @@ class Launcher {
   std::map<std::string, LaunchTotals> totals_;
 };
 
+// Sets a kernel's arguments in order: set_args(kernel, a0, a1, ...).
+template <class... Args>
+void set_args(cl::Kernel& kernel, const Args&... args) {
+  cl_uint index = 0;
+  (kernel.setArg(index++, args), ...);
+}
+
 // A device buffer of `count` elements of T initialised from host data (or zero-sized data:
 // one element is allocated, since OpenCL has no empty buffers). `name` goes into errors.
 cl::Buffer make_buffer(const DeviceContext& device, const std::string& name, cl_mem_flags flags,

@@ -17,12 +17,7 @@ PathTracerPass::PathTracerPass(const DeviceContext& device, const DeviceScene& s
   std::size_t pixels = std::size_t(camera.width) * camera.height;
   host_pixels_.resize(pixels);
   pixels_ = make_buffer(device, "pixel accumulators", CL_MEM_WRITE_ONLY, pixels * sizeof(PixelAccum));
-  kernel_.setArg(0, scene.nodes);
-  kernel_.setArg(1, scene.triangles);
-  kernel_.setArg(2, scene.shading);
-  kernel_.setArg(3, scene.materials);
-  kernel_.setArg(4, camera_);
-  kernel_.setArg(6, pixels_);
+  set_args(kernel_, scene.nodes, scene.triangles, scene.shading, scene.materials, camera_, params_, pixels_);
 }
 
 std::uint32_t PathTracerPass::max_batch() const {

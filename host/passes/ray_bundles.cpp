@@ -178,77 +178,34 @@ BundleIteration RayBundlePass::iteration_params(std::uint64_t iteration) const {
 }
 
 std::uint64_t RayBundlePass::iterate(std::uint64_t iteration) {
-  BundleIteration it = iteration_params(iteration);
+  const BundleIteration it = iteration_params(iteration);
   const cl_uint patches = as_uint(patch_count_), elements = as_uint(element_count_);
-
-  outgoing_.setArg(0, elements_);
-  outgoing_.setArg(1, patch_element_);
-  outgoing_.setArg(2, scene_.materials);
-  outgoing_.setArg(3, e_in_);
-  outgoing_.setArg(4, it);
-  outgoing_.setArg(5, patches);
-  outgoing_.setArg(6, l_out_);
+  set_args(outgoing_, elements_, patch_element_, scene_.materials, e_in_, it, patches, l_out_);
   launcher_.launch("rb_outgoing", outgoing_, patch_count_, 64);
 
-  count_.setArg(0, elements_);
-  count_.setArg(1, it);
-  count_.setArg(2, elements);
-  count_.setArg(3, fragment_counts_);
+  set_args(count_, elements_, it, elements, fragment_counts_);
   launcher_.launch("rb_count", count_, element_count_, 64);
   scan_.exclusive(launcher_, fragment_counts_, element_count_, fragment_offsets_);
   cl_uint fragments = 0;
   device_.queue.enqueueReadBuffer(fragment_offsets_, CL_TRUE, element_count_ * sizeof(cl_uint), sizeof(cl_uint),
                                   &fragments);
   ensure_fragment_capacity(fragments);
-
-  emit_.setArg(0, elements_);
-  emit_.setArg(1, it);
-  emit_.setArg(2, elements);
-  emit_.setArg(3, fragment_offsets_);
-  emit_.setArg(4, fragment_key_);
-  emit_.setArg(5, fragment_depth_);
-  emit_.setArg(6, fragment_element_);
+  set_args(emit_, elements_, it, elements, fragment_offsets_, fragment_key_, fragment_depth_, fragment_element_);
   launcher_.launch("rb_emit", emit_, element_count_, 64);
 
   device_.queue.enqueueFillBuffer(tile_counts_, cl_uint(0), 0, tile_count_ * sizeof(cl_uint));
-  tile_count_kernel_.setArg(0, fragment_key_);
-  tile_count_kernel_.setArg(1, fragments);
-  tile_count_kernel_.setArg(2, tile_counts_);
+  set_args(tile_count_kernel_, fragment_key_, fragments, tile_counts_);
   launcher_.launch("rb_tile_count", tile_count_kernel_, fragments, 64);
   scan_.exclusive(launcher_, tile_counts_, tile_count_, tile_start_);
   device_.queue.enqueueCopyBuffer(tile_start_, tile_cursor_, 0, 0, (tile_count_ + 1) * sizeof(cl_uint));
-  const cl::Buffer* scatter_args[] = {&fragment_key_, &fragment_depth_, &fragment_element_};
-  for (int a = 0; a < 3; ++a) tile_scatter_.setArg(a, *scatter_args[a]);
-  tile_scatter_.setArg(3, fragments);
-  tile_scatter_.setArg(4, tile_cursor_);
-  tile_scatter_.setArg(5, tiled_slot_);
-  tile_scatter_.setArg(6, tiled_local_);
-  tile_scatter_.setArg(7, tiled_depth_);
-  tile_scatter_.setArg(8, tiled_element_);
+  set_args(tile_scatter_, fragment_key_, fragment_depth_, fragment_element_, fragments, tile_cursor_, tiled_slot_,
+           tiled_local_, tiled_depth_, tiled_element_);
   launcher_.launch("rb_tile_scatter", tile_scatter_, fragments, 64);
-
-  tile_resolve_.setArg(0, elements_);
-  tile_resolve_.setArg(1, tile_start_);
-  tile_resolve_.setArg(2, tiled_slot_);
-  tile_resolve_.setArg(3, tiled_local_);
-  tile_resolve_.setArg(4, tiled_depth_);
-  tile_resolve_.setArg(5, tiled_element_);
-  tile_resolve_.setArg(6, tile_order_);
-  tile_resolve_.setArg(7, l_out_);
-  tile_resolve_.setArg(8, it);
-  tile_resolve_.setArg(9, as_uint(tile_count_));
-  tile_resolve_.setArg(10, received_minus_);
-  tile_resolve_.setArg(11, received_plus_);
+  set_args(tile_resolve_, elements_, tile_start_, tiled_slot_, tiled_local_, tiled_depth_, tiled_element_, tile_order_,
+           l_out_, it, as_uint(tile_count_), received_minus_, received_plus_);
   launcher_.launch("rb_tile_resolve", tile_resolve_, tile_count_, 8);
 
-  gather_.setArg(0, elements_);
-  gather_.setArg(1, fragment_offsets_);
-  gather_.setArg(2, fragment_counts_);
-  gather_.setArg(3, received_minus_);
-  gather_.setArg(4, received_plus_);
-  gather_.setArg(5, it);
-  gather_.setArg(6, elements);
-  gather_.setArg(7, e_in_);
+  set_args(gather_, elements_, fragment_offsets_, fragment_counts_, received_minus_, received_plus_, it, elements, e_in_);
   launcher_.launch("rb_gather", gather_, element_count_, 64);
   return fragments;
 }
@@ -264,41 +221,20 @@ BatchCounts RayBundlePass::run(std::uint64_t first, std::uint32_t count) {
     const std::uint64_t iteration = settings_.warmup + first + k;
     counts.fragments += iterate(iteration);
     if (eye_rounds_ % settings_.jitter_refresh == 0) {
-      eye_hits_.setArg(0, scene_.nodes);
-      eye_hits_.setArg(1, scene_.triangles);
-      eye_hits_.setArg(2, scene_.shading);
-      eye_hits_.setArg(3, scene_.materials);
-      eye_hits_.setArg(4, camera_);
-      eye_hits_.setArg(5, settings_.seed ^ 0x5eed0e7eu);
-      eye_hits_.setArg(6, cl_uint(eye_rounds_ / settings_.jitter_refresh));
-      eye_hits_.setArg(7, eye_hits_buffer_);
+      set_args(eye_hits_, scene_.nodes, scene_.triangles, scene_.shading, scene_.materials, camera_,
+               cl_uint(settings_.seed ^ 0x5eed0e7eu), cl_uint(eye_rounds_ / settings_.jitter_refresh), eye_hits_buffer_);
       launcher_.launch("rb_eye_hits", eye_hits_, pixel_count_, 64);
       counts.rays += pixel_count_;
     }
     ++eye_rounds_;
-    BundleIteration it = iteration_params(iteration);
+    const BundleIteration it = iteration_params(iteration);
     if (settings_.gouraud) {
-      vertex_.setArg(0, vertex_patch_start_);
-      vertex_.setArg(1, vertex_patches_);
-      vertex_.setArg(2, elements_);
-      vertex_.setArg(3, patch_element_);
-      vertex_.setArg(4, e_in_);
-      vertex_.setArg(5, it);
-      vertex_.setArg(6, as_uint(vertex_count_));
-      vertex_.setArg(7, e_vertex_);
+      set_args(vertex_, vertex_patch_start_, vertex_patches_, elements_, patch_element_, e_in_, it,
+               as_uint(vertex_count_), e_vertex_);
       launcher_.launch("rb_vertex", vertex_, vertex_count_, 64);
     }
-    eye_.setArg(0, eye_hits_buffer_);
-    eye_.setArg(1, elements_);
-    eye_.setArg(2, patch_element_);
-    eye_.setArg(3, scene_.materials);
-    eye_.setArg(4, e_in_);
-    eye_.setArg(5, patch_vertices_);
-    eye_.setArg(6, e_vertex_);
-    eye_.setArg(7, cl_uint(settings_.gouraud ? 1 : 0));
-    eye_.setArg(8, it);
-    eye_.setArg(9, as_uint(pixel_count_));
-    eye_.setArg(10, pixel_sum_);
+    set_args(eye_, eye_hits_buffer_, elements_, patch_element_, scene_.materials, e_in_, patch_vertices_, e_vertex_,
+             cl_uint(settings_.gouraud ? 1 : 0), it, as_uint(pixel_count_), pixel_sum_);
     launcher_.launch("rb_eye", eye_, pixel_count_, 64);
   }
   launcher_.finish();

@@ -39,8 +39,8 @@ BP_FN float3 bsdf_eval(const Bsdf* b, float3 n, float3 wi, float3 wo) {
   if (dot(n, wi) <= 0.0f || dot(n, wo) <= 0.0f) return make_float3(0.0f, 0.0f, 0.0f);
   float3 f = b->kd * BP_INV_PI;
   if (b->p_diffuse < 1.0f) {  // a specular lobe (pow is the costliest thing here: skip it for Lambert)
-    float cos_alpha = fmax(dot(reflect_about(wo, n), wi), 0.0f);
-    f += b->ks * ((b->shininess + 2.0f) * (0.5f * BP_INV_PI) * pow(cos_alpha, b->shininess));
+    float cos_alpha = dot(reflect_about(wo, n), wi);  // the lobe is zero beyond 90 degrees, also for n = 0
+    if (cos_alpha > 0.0f) f += b->ks * ((b->shininess + 2.0f) * (0.5f * BP_INV_PI) * pow(cos_alpha, b->shininess));
   }
   return f;
 }

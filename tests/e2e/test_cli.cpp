@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <filesystem>
+#include <algorithm>
 #include <fstream>
 
 namespace bp::test {
@@ -95,6 +96,50 @@ TEST(Cli, CompareReportsMetricsAndRejectsMismatchedSizes) {
   r = run_cli("compare " + dir + "/a.exr " + dir + "/missing.exr");
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_NE(r.output.find("missing.exr"), std::string::npos) << r.output;
+}
+
+TEST(Cli, CombinedModeWritesEveryLayerAndReportsAgainstAReference) {
+  std::string dir = fresh_dir("combined");
+  // A reference of the right size: a short path-traced render.
+  CliResult ref = run_cli("render " + kScenes + "cornell-box.gltf --width 20 --height 20 --spp 16 --out " + dir + "/ref");
+  ASSERT_EQ(ref.exit_code, 0) << ref.output;
+  CliResult r = run_cli("render " + kScenes + "cornell-box.gltf --mode combined --ratio 1/4 --width 20 --height 20 " +
+                        "--spp 8 --reference " + dir + "/ref.exr --contact-sheet " + dir + "/sheet.png --out " + dir +
+                        "/c --stats " + dir + "/s.json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::vector<std::string> names = exr_layer_names(dir + "/c.exr");
+  for (const char* layer : {"", "pt", "rb", "pt_raw", "rb_raw"})
+    EXPECT_NE(std::find(names.begin(), names.end(), layer), names.end()) << "layer '" << layer << "'";
+  // R,G,B is the sum of the weighted layers (eq. 3).
+  ImageRGB combined = read_exr(dir + "/c.exr"), pt = read_exr(dir + "/c.exr", "pt"), rb = read_exr(dir + "/c.exr", "rb");
+  for (std::size_t i = 0; i < combined.rgb.size(); ++i) ASSERT_NEAR(combined.rgb[i], pt.rgb[i] + rb.rgb[i], 1e-5f);
+  nlohmann::json stats = nlohmann::json::parse(std::ifstream(dir + "/s.json"));
+  EXPECT_EQ(stats["spp"], 8);
+  EXPECT_EQ(stats["iterations"], 32);  // ratio 1/4: four iterations per sample
+  EXPECT_EQ(stats["weights"], "product");
+  for (const char* layer : {"combined", "pt", "rb", "pt_raw", "rb_raw"})
+    EXPECT_TRUE(stats["reference"]["layers"].contains(layer)) << layer;
+  EXPECT_NE(r.output.find("vs reference"), std::string::npos) << r.output;
+  EXPECT_GT(fs::file_size(dir + "/sheet.png"), 1000u);
+}
+
+TEST(Cli, CombinedModeOptionErrors) {
+  std::string dir = fresh_dir("combined_errors");
+  struct Case { std::string args, needle; int code; };
+  const Case cases[] = {
+      {"--mode combined --ratio 0", "--ratio", 2},
+      {"--mode combined --ratio 1/0", "--ratio", 2},
+      {"--mode combined --weights heavy", "--weights", 2},
+      {"--mode combined --spp 4 --iterations 4", "not both", 2},
+      {"--mode combined --layers some", "--layers", 2},
+      {"--mode combined --spp 1 --reference " + dir + "/missing.exr", "missing.exr", 1},
+  };
+  for (const Case& c : cases) {
+    CliResult r = run_cli("render " + kScenes + "cornell-box.gltf --width 8 --height 8 " + c.args + " --out " + dir + "/x");
+    EXPECT_EQ(r.exit_code, c.code) << c.args << "\n" << r.output;
+    EXPECT_NE(r.output.find(c.needle), std::string::npos) << c.args << "\n" << r.output;
+  }
+  EXPECT_FALSE(fs::exists(dir + "/x.exr")) << "no output for a run that never started";
 }
 
 TEST(Cli, UnknownDeviceIsAnErrorListingDevices) {

@@ -38,13 +38,7 @@ Samples run_sampler(const Material& material, float3 wo, std::uint32_t seed) {
   cl::Kernel kernel(program.program, "sample_bsdf");
   cl::Buffer mat = make_buffer(device, "material", CL_MEM_READ_ONLY, sizeof(Material), &material);
   cl::Buffer out = make_buffer(device, "samples", CL_MEM_WRITE_ONLY, std::size_t(kSamples) * 4 * sizeof(float));
-  kernel.setArg(0, mat);
-  kernel.setArg(1, wo.x);
-  kernel.setArg(2, wo.y);
-  kernel.setArg(3, wo.z);
-  kernel.setArg(4, seed);
-  kernel.setArg(5, kSamples);
-  kernel.setArg(6, out);
+  set_args(kernel, mat, wo.x, wo.y, wo.z, seed, kSamples, out);
   Launcher launcher(device);
   launcher.launch("sample_bsdf", kernel, kSamples, 64);
   launcher.finish();

@@ -71,13 +71,7 @@ std::vector<float> run_weights(const Paths& paths, std::uint32_t count, std::uin
   cl::Buffer materials = upload_buffer(device, "materials", paths.materials);
   cl::Buffer geometry = upload_buffer(device, "geometry", paths.geometry);
   cl::Buffer out = make_buffer(device, "weights", CL_MEM_WRITE_ONLY, 2 * count * sizeof(float));
-  kernel.setArg(0, materials);
-  kernel.setArg(1, geometry);
-  kernel.setArg(2, vertices);
-  kernel.setArg(3, count);
-  kernel.setArg(4, mode);
-  kernel.setArg(5, ratio);
-  kernel.setArg(6, out);
+  set_args(kernel, materials, geometry, vertices, count, mode, ratio, out);
   Launcher launcher(device);
   launcher.launch("path_weights", kernel, count, 64);
   launcher.finish();
