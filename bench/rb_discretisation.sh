@@ -1,13 +1,13 @@
 #!/usr/bin/env bash
 # RB's discretisation error on the Cornell box: --mode rb at shrinking patch sizes against a long
 # path-traced reference (cached under ~/.cache/bundlepath/references). Prints a Markdown table.
-# Usage: bench/rb_discretisation.sh [ITERATIONS] [REFERENCE_SPP]     (defaults 10000, 4096)
+# Usage: bench/rb_discretisation.sh [ITERATIONS] [REFERENCE_SPP] [SIZE]    (defaults 20000, 32768, 64)
 set -euo pipefail
 cd "$(dirname "$0")/.."
-iterations=${1:-10000}
-ref_spp=${2:-4096}
+iterations=${1:-20000}
+ref_spp=${2:-32768}
 scene=scenes/cornell-box.gltf
-size=128
+size=${3:-64}
 cache=${XDG_CACHE_HOME:-$HOME/.cache}/bundlepath/references
 mkdir -p "$cache"
 ref=$cache/cornell-box-pt-${size}-${ref_spp}

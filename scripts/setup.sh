@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs what bundlepath needs from Debian 12 packages; installs nothing that is already there.
 # Idempotent: run it as often as you like (as root, or with sudo available).
+# Extra package names given as arguments are installed too (scripts/fuzz.sh adds clang).
 set -euo pipefail
 
 packages=(
@@ -8,6 +9,7 @@ packages=(
   pocl-opencl-icd ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers clinfo
   libglm-dev libopenexr-dev libtinygltf-dev nlohmann-json3-dev libstb-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  "$@"
 )
 
 missing=()

@@ -1,35 +1,13 @@
+// bundlepath devices and bundlepath compare (render lives in render_command.cpp).
 #include "cli/commands.h"
 
-#include "cli/interrupt.h"
-#include "cli/progress.h"
 #include "device/device_context.h"
-#include "device/device_scene.h"
-#include "image/accumulator.h"
 #include "image/image.h"
-#include "image/stats_io.h"
-#include "passes/path_tracer.h"
-#include "passes/ray_bundles.h"
-#include "passes/render_loop.h"
-#include "scene/bundle_geometry.h"
-#include "scene/bvh.h"
-#include "scene/gltf_loader.h"
-#include "scene/patches.h"
 
-#include <chrono>
-#include <cmath>
+#include <nlohmann/json.hpp>
 #include <cstdio>
-#include <filesystem>
-#include <memory>
-#include <optional>
 
 namespace bp {
-namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point t) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
-
-}  // namespace
 
 int run_devices() {
   for (const DeviceInfo& d : list_devices()) {

@@ -28,7 +28,7 @@ struct RenderOptions {
   std::string device;            // empty: first GPU, else first CPU
   std::string mode = "pt";       // pt, rb, combined
   std::string weights = "product";  // combined: product, paper, none
-  double ratio = 0.0;            // combined: PT samples per pixel per RB iteration; 0 = the default
+  double ratio = 0.0;            // combined: PT samples per pixel per RB iteration; 0 = the default, 1/4
   bool all_layers = false;       // --layers all: also pt_raw and rb_raw
   std::string reference_path;    // --reference REF.exr
   std::string contact_sheet_path;
