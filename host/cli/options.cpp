@@ -69,6 +69,11 @@ options (defaults in brackets):
   --warmup N          ray-bundle iterations before the image starts (rb)  [16]
   --rb-shading S      eye estimate: gouraud (interpolated across patches) or flat  [gouraud]
   --stats FILE        write run statistics as JSON
+  --checkpoint FILE   save the render's state to FILE every --checkpoint-every seconds [60]
+                      and when it ends or is interrupted
+  --resume FILE       continue the render saved in FILE (same scene and options). --spp and
+                      --iterations are totals, so the result equals an uninterrupted render;
+                      --time counts this run only
   --exposure STOPS    exposure of the PNG                      [0]
   --max-depth N       safety cap on path length                [65536]
   -h, --help          this text
@@ -124,6 +129,11 @@ RenderOptions parse_render_options(const std::vector<std::string>& args) {
          o.contact_sheet_path = v;
          o.all_layers = true;
        }},
+      {"--checkpoint", [&](auto&, auto& v) { o.checkpoint_path = v; }},
+      {"--checkpoint-every", [&](auto& k, auto& v) {
+         o.checkpoint_every = parse_number<double>(k, v, 0.0, 1e7, "seconds >= 0");
+       }},
+      {"--resume", [&](auto&, auto& v) { o.resume_path = v; }},
       {"--time", [&](auto& k, auto& v) { o.seconds = parse_number<double>(k, v, 1e-3, 1e7, "seconds > 0"); }},
       {"--seed", [&](auto& k, auto& v) {
          o.seed = parse_number<std::uint32_t>(k, v, 0, 0xffffffffu, "an integer in 0..4294967295");

@@ -32,6 +32,9 @@ struct RenderOptions {
   bool all_layers = false;       // --layers all: also pt_raw and rb_raw
   std::string reference_path;    // --reference REF.exr
   std::string contact_sheet_path;
+  std::string checkpoint_path;   // --checkpoint FILE: written every checkpoint_every seconds and at the end
+  double checkpoint_every = 60.0;
+  std::string resume_path;       // --resume FILE: continue a checkpointed render
   float patch_size = 0.0f;       // metres; 0: derived from the scene's extent
   std::string stats_path;
   float exposure = 0.0f;         // PNG exposure in stops

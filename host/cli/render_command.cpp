@@ -9,6 +9,7 @@
 #include "image/contact_sheet.h"
 #include "image/image.h"
 #include "image/stats_io.h"
+#include "passes/checkpoint.h"
 #include "passes/combined.h"
 #include "passes/path_tracer.h"
 #include "passes/ray_bundles.h"
@@ -52,6 +53,22 @@ struct Layers {
     return nullptr;
   }
 };
+
+// Everything that shapes the image, canonically: a checkpoint resumes only under the same.
+std::string options_key(const RenderOptions& o, int width, int height, float patch_size, std::uint32_t bins,
+                        const std::optional<RoundShape>& shape) {
+  std::string key = "scene=" + std::filesystem::absolute(o.scene).lexically_normal().string() +
+                    ";mode=" + o.mode + ";size=" + std::to_string(width) + "x" + std::to_string(height) +
+                    ";seed=" + std::to_string(o.seed) + ";patch_size=" + std::to_string(patch_size) +
+                    ";max_depth=" + std::to_string(o.max_depth) + ";layers=" + (o.all_layers ? "all" : "default");
+  if (o.mode != "pt")
+    key += ";bins=" + std::to_string(bins) + ";warmup=" + std::to_string(o.warmup) +
+           ";shading=" + (o.gouraud ? "gouraud" : "flat");
+  if (shape)
+    key += ";weights=" + o.weights + ";round=" + std::to_string(shape->pt_samples) + "spp+" +
+           std::to_string(shape->rb_iterations) + "it";
+  return key;
+}
 
 }  // namespace
 
@@ -132,6 +149,37 @@ int run_render(const RenderOptions& o) {
     geometry = build_bundle_geometry(scene, patches);
     rb = std::make_unique<RayBundlePass>(device, device_scene, *geometry, camera, rb_settings, rb_accum);
   }
+  // A resumed render starts from the checkpoint's accumulators, ray-bundle state and round count.
+  std::uint64_t first_round = 0;
+  double earlier_seconds = 0.0;
+  const std::string key = options_key(o, width, height, patch_size, rb ? rb_settings.bins : 0, shape);
+  if (!o.resume_path.empty()) {
+    Checkpoint c = read_checkpoint(o.resume_path);
+    if (c.options != key)
+      throw UsageError("--resume " + o.resume_path + " was saved with other options:\n  saved: " + c.options +
+                       "\n  now:   " + key);
+    if (pt && c.pt) pt_accum = *c.pt;
+    if (rb && c.rb) rb_accum = *c.rb;
+    if (rb && c.rb_state) rb->load_state(*c.rb_state);
+    first_round = c.rounds;
+    earlier_seconds = c.render_seconds;
+  }
+  std::uint64_t saved_rounds = first_round;
+  auto save_checkpoint = [&](std::uint64_t rounds, double seconds) {
+    Checkpoint c;
+    c.options = key;
+    c.rounds = rounds;
+    c.render_seconds = earlier_seconds + seconds;
+    if (pt) c.pt = pt_accum;
+    if (rb) {
+      c.rb = rb_accum;
+      c.rb_state = rb->save_state();
+    }
+    write_checkpoint(o.checkpoint_path, c);
+    saved_rounds = rounds;
+  };
+  double last_save = 0.0;
+
   std::unique_ptr<CombinedPass> combined;
   ProgressivePass* pass = pt ? static_cast<ProgressivePass*>(pt.get()) : rb.get();
   std::uint64_t rounds = o.mode == "rb" ? o.iterations : o.spp;
@@ -149,14 +197,21 @@ int run_render(const RenderOptions& o) {
   ProgressBar bar(o.mode);
   const double pixels = double(width) * height;
   const double samples_per_round = shape ? shape->pt_samples * pixels : (o.mode == "pt" ? pixels : 1.0);
-  RenderOutcome outcome = run_progressive(*pass, RenderBudget{rounds, o.seconds}, stop_requested(),
-                                          [&](const RenderProgress& p) {
-                                            double secs = std::max(p.elapsed_seconds, 1e-9);
-                                            bar.update(p.fraction, double(p.rounds_done) * samples_per_round / secs,
-                                                       double(p.rays) / secs * 1e-6, p.elapsed_seconds,
-                                                       o.mode == "rb" ? "iterations/s" : "samples/s");
-                                          });
+  RenderOutcome outcome = run_progressive(
+      *pass, RenderBudget{rounds, o.seconds}, stop_requested(),
+      [&](const RenderProgress& p) {
+        double secs = std::max(p.elapsed_seconds, 1e-9);
+        bar.update(p.fraction, double(p.rounds_done - first_round) * samples_per_round / secs,
+                   double(p.rays) / secs * 1e-6, p.elapsed_seconds, o.mode == "rb" ? "iterations/s" : "samples/s");
+        if (!o.checkpoint_path.empty() && p.elapsed_seconds - last_save >= o.checkpoint_every) {
+          save_checkpoint(p.rounds_done, p.elapsed_seconds);
+          last_save = p.elapsed_seconds;
+        }
+      },
+      first_round);
   bar.finish();
+  if (!o.checkpoint_path.empty() && (saved_rounds != outcome.rounds || o.resume_path.empty()))
+    save_checkpoint(outcome.rounds, outcome.seconds);
 
   // Layers: R,G,B = pt + rb of the weighted images (eq. 3); pt, rb; pt_raw, rb_raw when asked for.
   Layers layers;
@@ -234,6 +289,8 @@ int run_render(const RenderOptions& o) {
     stats["mrays_per_second"] = mrays_per_second;
     stats["nan_or_inf_samples"] = outcome.nonfinite_samples;
     stats["interrupted"] = outcome.interrupted;
+    if (!o.resume_path.empty()) stats["resumed_from_rounds"] = first_round;
+    if (!o.checkpoint_path.empty()) stats["checkpoint"] = o.checkpoint_path;
     if (shape) {
       stats["weights"] = o.weights;
       stats["ratio"] = shape->ratio();

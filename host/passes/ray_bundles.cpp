@@ -221,9 +221,7 @@ BatchCounts RayBundlePass::run(std::uint64_t first, std::uint32_t count) {
     const std::uint64_t iteration = settings_.warmup + first + k;
     counts.fragments += iterate(iteration);
     if (eye_rounds_ % settings_.jitter_refresh == 0) {
-      set_args(eye_hits_, scene_.nodes, scene_.triangles, scene_.shading, scene_.materials, camera_,
-               cl_uint(settings_.seed ^ 0x5eed0e7eu), cl_uint(eye_rounds_ / settings_.jitter_refresh), eye_hits_buffer_);
-      launcher_.launch("rb_eye_hits", eye_hits_, pixel_count_, 64);
+      trace_eye_hits(eye_rounds_ / settings_.jitter_refresh);
       counts.rays += pixel_count_;
     }
     ++eye_rounds_;
@@ -265,6 +263,27 @@ std::vector<T> read_all(const DeviceContext& device, Launcher& launcher, const c
   return out;
 }
 }  // namespace
+
+void RayBundlePass::trace_eye_hits(std::uint64_t jitter_index) {
+  set_args(eye_hits_, scene_.nodes, scene_.triangles, scene_.shading, scene_.materials, camera_,
+           cl_uint(settings_.seed ^ 0x5eed0e7eu), cl_uint(jitter_index), eye_hits_buffer_);
+  launcher_.launch("rb_eye_hits", eye_hits_, pixel_count_, 64);
+}
+
+RayBundlePass::State RayBundlePass::save_state() {
+  return State{read_patch_irradiance(), eye_rounds_, warmed_up_};
+}
+
+void RayBundlePass::load_state(const State& state) {
+  if (state.e_in.size() != patch_count_ * chains_)
+    throw std::runtime_error("the checkpoint holds " + std::to_string(state.e_in.size()) +
+                             " patch radiances, this run has " + std::to_string(patch_count_ * chains_));
+  device_.queue.enqueueWriteBuffer(e_in_, CL_TRUE, 0, state.e_in.size() * sizeof(cl_float4), state.e_in.data());
+  eye_rounds_ = state.eye_rounds;
+  warmed_up_ = state.warmed_up;
+  // The eye hits of the current jitter period, as the interrupted run had them.
+  if (eye_rounds_ % settings_.jitter_refresh != 0) trace_eye_hits((eye_rounds_ - 1) / settings_.jitter_refresh);
+}
 
 std::vector<cl_float4> RayBundlePass::read_patch_irradiance() {
   return read_all<cl_float4>(device_, launcher_, e_in_, patch_count_ * chains_);

@@ -65,11 +65,22 @@ class RayBundlePass : public ProgressivePass {
   // L_out of every patch in the last iteration, and the bins each element covered (for tests).
   std::vector<cl_float4> read_patch_outgoing();
   std::vector<cl_uint> read_fragment_counts();
+  // What a checkpoint must keep to continue exactly: the patches' incoming radiance after the last
+  // iteration, and how far the warm-up and the jittered eye hits have got.
+  struct State {
+    std::vector<cl_float4> e_in;
+    std::uint64_t eye_rounds = 0;
+    bool warmed_up = false;
+  };
+  State save_state();
+  void load_state(const State& state);  // throws std::runtime_error if it does not fit this pass
+
   // This iteration's direction and grid (a pure function of seed and iteration).
   BundleIteration iteration_params(std::uint64_t iteration) const;
 
  private:
   void ensure_fragment_capacity(std::size_t fragments);
+  void trace_eye_hits(std::uint64_t jitter_index);
 
   const DeviceContext& device_;
   const DeviceScene& scene_;

@@ -6,18 +6,27 @@
 namespace bp {
 
 std::uint32_t batch_size(std::uint64_t done, std::uint64_t target, std::uint32_t max_batch) {
-  std::uint64_t ramp = std::max<std::uint64_t>(done, 1);  // 1, 1, 2, 4, 8, ... rounds
-  std::uint64_t size = std::min<std::uint64_t>(max_batch, ramp);
+  std::uint64_t next;  // the first grid point after done
+  if (done >= max_batch) {
+    next = (done / max_batch + 1) * max_batch;
+  } else {
+    next = 1;
+    while (next <= done) next *= 2;
+    next = std::min<std::uint64_t>(next, max_batch);
+  }
+  std::uint64_t size = next - done;
   if (target) size = std::min(size, target - done);
   return std::uint32_t(size);
 }
 
 RenderOutcome run_progressive(ProgressivePass& pass, const RenderBudget& budget,
                               const std::atomic<bool>& stop_requested,
-                              const std::function<void(const RenderProgress&)>& on_progress) {
+                              const std::function<void(const RenderProgress&)>& on_progress,
+                              std::uint64_t first_round) {
   using clock = std::chrono::steady_clock;
   const auto start = clock::now();
   RenderOutcome out;
+  out.rounds = first_round;
   while (true) {
     double elapsed = std::chrono::duration<double>(clock::now() - start).count();
     if (budget.rounds && out.rounds >= budget.rounds) break;

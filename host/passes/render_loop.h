@@ -32,12 +32,17 @@ struct RenderOutcome {
   bool interrupted = false;
 };
 
-// Rounds in the batch that starts after `done` rounds: a doubling ramp (so progress and --time react
-// early) up to max_batch.
+// Rounds in the batch that starts after `done` rounds. Batches end on a fixed grid -- 1, 2, 4, ...,
+// max_batch, then multiples of it -- whatever the target, so progress and --time react early, and a
+// render stopped after any batch and resumed adds its sums in exactly the groups an uninterrupted
+// render does (the same image, bit for bit). The last batch stops at the target.
 std::uint32_t batch_size(std::uint64_t done, std::uint64_t target, std::uint32_t max_batch);
 
+// Runs from round first_round (0, or where a resumed render stopped) until the budget's round target
+// (counted from 0), its seconds (counted in this run), or a stop request.
 RenderOutcome run_progressive(ProgressivePass& pass, const RenderBudget& budget,
                               const std::atomic<bool>& stop_requested,
-                              const std::function<void(const RenderProgress&)>& on_progress);
+                              const std::function<void(const RenderProgress&)>& on_progress,
+                              std::uint64_t first_round = 0);
 
 }  // namespace bp

@@ -1,0 +1,127 @@
+#include "passes/checkpoint.h"
+#include "image/atomic_file.h"
+
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <stdexcept>
+
+namespace bp {
+namespace {
+
+constexpr char kMagic[8] = {'B', 'P', 'C', 'K', 'P', 'T', '0', '1'};
+
+struct Writer {
+  std::string bytes;
+  template <class T>
+  void value(const T& v) { bytes.append(reinterpret_cast<const char*>(&v), sizeof v); }
+  template <class T>
+  void array(const std::vector<T>& v) {
+    value(std::uint64_t(v.size()));
+    bytes.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+  }
+  void text(const std::string& s) { array(std::vector<char>(s.begin(), s.end())); }
+};
+
+struct Reader {
+  const std::string& bytes;
+  const std::string& path;
+  std::size_t at = 0;
+  void need(std::size_t n) {
+    if (bytes.size() - at < n) throw std::runtime_error(path + ": the checkpoint is truncated");
+  }
+  template <class T>
+  T value() {
+    need(sizeof(T));
+    T v;
+    std::memcpy(&v, bytes.data() + at, sizeof v);
+    at += sizeof v;
+    return v;
+  }
+  template <class T>
+  std::vector<T> array() {
+    std::uint64_t n = value<std::uint64_t>();
+    if (n > (bytes.size() - at) / sizeof(T)) throw std::runtime_error(path + ": the checkpoint is truncated");
+    std::vector<T> v(n);
+    std::memcpy(v.data(), bytes.data() + at, n * sizeof(T));
+    at += n * sizeof(T);
+    return v;
+  }
+  std::string text() {
+    std::vector<char> v = array<char>();
+    return std::string(v.begin(), v.end());
+  }
+};
+
+void write_accumulator(Writer& w, const std::optional<Accumulator>& a) {
+  w.value(std::uint8_t(a.has_value()));
+  if (!a) return;
+  w.value(std::int32_t(a->width));
+  w.value(std::int32_t(a->height));
+  w.value(a->samples_per_pixel);
+  w.array(a->sum);
+  w.array(a->raw_sum);
+}
+
+std::optional<Accumulator> read_accumulator(Reader& r) {
+  if (!r.value<std::uint8_t>()) return std::nullopt;
+  Accumulator a;
+  a.width = r.value<std::int32_t>();
+  a.height = r.value<std::int32_t>();
+  a.samples_per_pixel = r.value<std::uint64_t>();
+  a.sum = r.array<double>();
+  a.raw_sum = r.array<double>();
+  if (a.width <= 0 || a.height <= 0 || a.sum.size() != std::size_t(a.width) * a.height * 3 ||
+      (!a.raw_sum.empty() && a.raw_sum.size() != a.sum.size()))
+    throw std::runtime_error(r.path + ": the checkpoint's image sizes are inconsistent");
+  return a;
+}
+
+}  // namespace
+
+void write_checkpoint(const std::string& path, const Checkpoint& c) {
+  Writer w;
+  w.bytes.append(kMagic, sizeof kMagic);
+  w.text(c.options);
+  w.value(c.rounds);
+  w.value(c.render_seconds);
+  write_accumulator(w, c.pt);
+  write_accumulator(w, c.rb);
+  w.value(std::uint8_t(c.rb_state.has_value()));
+  if (c.rb_state) {
+    w.array(c.rb_state->e_in);
+    w.value(c.rb_state->eye_rounds);
+    w.value(std::uint8_t(c.rb_state->warmed_up));
+  }
+  write_file_atomically(path, "checkpoint", [&](const std::string& tmp) {
+    std::ofstream out(tmp, std::ios::binary);
+    out.write(w.bytes.data(), std::streamsize(w.bytes.size()));
+    if (!out) throw std::runtime_error("cannot write " + tmp);
+  });
+}
+
+Checkpoint read_checkpoint(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error(path + ": cannot read the checkpoint (missing or unreadable)");
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (bytes.size() < sizeof kMagic || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
+    throw std::runtime_error(path + ": not a bundlepath checkpoint");
+  Reader r{bytes, path, sizeof kMagic};
+  Checkpoint c;
+  c.options = r.text();
+  c.rounds = r.value<std::uint64_t>();
+  c.render_seconds = r.value<double>();
+  c.pt = read_accumulator(r);
+  c.rb = read_accumulator(r);
+  if (r.value<std::uint8_t>()) {
+    RayBundlePass::State s;
+    s.e_in = r.array<cl_float4>();
+    s.eye_rounds = r.value<std::uint64_t>();
+    s.warmed_up = r.value<std::uint8_t>() != 0;
+    c.rb_state = s;
+  }
+  if (r.at != bytes.size()) throw std::runtime_error(path + ": the checkpoint has trailing bytes");
+  return c;
+}
+
+}  // namespace bp

@@ -1,0 +1,27 @@
+// Checkpoints (--checkpoint, --resume): everything a render needs to continue exactly where it
+// stopped -- the accumulators, the ray-bundle state, the round count -- and the options that made
+// it, so a resume with different options is refused rather than mixed.
+#pragma once
+#include "image/accumulator.h"
+#include "passes/ray_bundles.h"
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace bp {
+
+struct Checkpoint {
+  std::string options;           // canonical description of everything that shapes the image
+  std::uint64_t rounds = 0;      // rounds completed (a batch boundary)
+  double render_seconds = 0.0;   // rendering time spent so far, over all runs
+  std::optional<Accumulator> pt, rb;
+  std::optional<RayBundlePass::State> rb_state;
+};
+
+// Binary, written atomically (temporary file, then rename). Throws std::runtime_error naming the file.
+void write_checkpoint(const std::string& path, const Checkpoint& checkpoint);
+
+// Throws std::runtime_error naming the file if it is missing, not a checkpoint, or truncated.
+Checkpoint read_checkpoint(const std::string& path);
+
+}  // namespace bp

@@ -1,0 +1,74 @@
+// --checkpoint / --resume: a render stopped anywhere (a count reached, or Ctrl-C) and resumed gives the
+// same image, bit for bit, as one that ran through; a checkpoint from other options is refused.
+#include "e2e/cli_runner.h"
+#include "image/image.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <filesystem>
+#include <fstream>
+
+namespace bp::test {
+namespace {
+
+namespace fs = std::filesystem;
+const std::string kGlossy = std::string(BP_SOURCE_DIR) + "/scenes/cornell-glossy.gltf ";
+
+void expect_same_image(const std::string& a, const std::string& b) {
+  for (const std::string& layer : exr_layer_names(a)) {
+    ImageRGB x = read_exr(a, layer), y = read_exr(b, layer);
+    ASSERT_EQ(x.rgb.size(), y.rgb.size());
+    EXPECT_EQ(x.rgb, y.rgb) << "layer '" << layer << "' differs";
+  }
+}
+
+TEST(Checkpoint, StoppedAndResumedEqualsUninterruptedInEveryMode) {
+  std::string dir = fresh_dir("checkpoint_modes");
+  const std::string common = "render " + kGlossy + "--width 24 --height 18 --layers all ";
+  for (const std::string mode : {"--mode pt --spp", "--mode rb --iterations", "--mode combined --spp"}) {
+    ASSERT_EQ(run_cli(common + mode + " 24 --out " + dir + "/whole").exit_code, 0) << mode;
+    ASSERT_EQ(run_cli(common + mode + " 8 --checkpoint " + dir + "/ck --out " + dir + "/first").exit_code, 0) << mode;
+    CliResult r = run_cli(common + mode + " 24 --resume " + dir + "/ck --stats " + dir + "/s.json --out " + dir + "/rest");
+    ASSERT_EQ(r.exit_code, 0) << mode << "\n" << r.output;
+    expect_same_image(dir + "/rest.exr", dir + "/whole.exr");
+    nlohmann::json stats = nlohmann::json::parse(std::ifstream(dir + "/s.json"));
+    EXPECT_EQ(stats["resumed_from_rounds"], 8) << mode;
+  }
+}
+
+TEST(Checkpoint, CtrlCThenResumeEqualsUninterrupted) {
+  std::string dir = fresh_dir("checkpoint_sigint");
+  const std::string render = "'" + std::string(BP_BINARY) + "' render " + kGlossy + "--mode combined --width 96 " +
+                             "--height 96 --spp 256 ";
+  ASSERT_EQ(run_shell(render + "--out " + dir + "/whole").exit_code, 0);
+  // Interrupted once it has started, at whatever batch it has reached; the checkpoint is written on the way out.
+  CliResult r = run_shell("timeout 300 " + render + "--checkpoint " + dir + "/ck --out " + dir + "/cut 2>" + dir +
+                          "/log & pid=$!; for i in $(seq 600); do grep -q rendering " + dir +
+                          "/log && break; sleep 0.1; done; sleep 0.5; kill -INT $pid; wait $pid; echo \"exit=$?\"");
+  ASSERT_NE(r.output.find("exit=130"), std::string::npos) << r.output;
+  r = run_shell(render + "--resume " + dir + "/ck --out " + dir + "/resumed");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  expect_same_image(dir + "/resumed.exr", dir + "/whole.exr");
+  for (const auto& e : fs::directory_iterator(dir)) EXPECT_EQ(e.path().string().find(".tmp-"), std::string::npos);
+}
+
+TEST(Checkpoint, OtherOptionsOrABrokenFileAreRefused) {
+  std::string dir = fresh_dir("checkpoint_refused");
+  const std::string base = "render " + kGlossy + "--width 16 --height 16 ";
+  ASSERT_EQ(run_cli(base + "--spp 4 --checkpoint " + dir + "/ck --out " + dir + "/a").exit_code, 0);
+  CliResult r = run_cli(base + "--spp 8 --seed 9 --resume " + dir + "/ck --out " + dir + "/b");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("seed=9"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir + "/b.exr"));
+  std::ofstream(dir + "/junk") << "not a checkpoint";
+  r = run_cli(base + "--spp 8 --resume " + dir + "/junk --out " + dir + "/c");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("not a bundlepath checkpoint"), std::string::npos) << r.output;
+  fs::resize_file(dir + "/ck", fs::file_size(dir + "/ck") / 2);
+  r = run_cli(base + "--spp 8 --resume " + dir + "/ck --out " + dir + "/d");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("truncated"), std::string::npos) << r.output;
+}
+
+}  // namespace
+}  // namespace bp::test
