@@ -56,13 +56,7 @@ INSTANTIATE_TEST_SUITE_P(
         Regression{"sparse-huge-count.gltf", "has an implausible count 268435455",
                    "a 6 GB allocation for a view-less sparse accessor"},
         Regression{"camera-aspect-overflow.gltf", "has aspectRatio", "aspect 1e300 became an infinite float"}),
-    [](const auto& info) {
-      std::string name = info.param.file;
-      name = name.substr(0, name.find('.'));
-      for (char& ch : name)
-        if (ch == '-') ch = '_';
-      return name;
-    });
+    [](const auto& info) { return bp::test::test_name_from_file(info.param.file); });
 
 // The fuzz target's entry point gives what load_gltf gives, for every seed file.
 TEST(GltfFromMemory, SameSceneAsFromFileForEverySeed) {

@@ -175,13 +175,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"uri-absolute.gltf", "buffer 0 uri"},
         BadCase{"uri-encoded-parent.gltf", "buffer 0 uri"},
         BadCase{"missing-bin.gltf", "buffer 0 uri \"missing.bin\""}),
-    [](const auto& info) {
-      std::string name = info.param.file;
-      name = name.substr(0, name.find('.'));
-      for (char& ch : name)
-        if (ch == '-') ch = '_';
-      return name;
-    });
+    [](const auto& info) { return bp::test::test_name_from_file(info.param.file); });
 
 }  // namespace
 }  // namespace bp

@@ -13,6 +13,14 @@ inline std::string scene_file(const std::string& name) { return std::string(BP_S
 
 inline glm::vec3 normal_of(const SceneTriangle& t) { return glm::cross(t.p[1] - t.p[0], t.p[2] - t.p[0]); }
 
+// A GoogleTest parameter name from a data file name: "node-two-parents.gltf" -> "node_two_parents".
+inline std::string test_name_from_file(std::string name) {
+  name = name.substr(0, name.find('.'));
+  for (char& ch : name)
+    if (ch == '-') ch = '_';
+  return name;
+}
+
 inline bool has_warning(const Scene& s, const std::string& part) {
   for (const auto& w : s.warnings)
     if (w.find(part) != std::string::npos) return true;
