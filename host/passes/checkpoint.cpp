@@ -18,7 +18,7 @@ struct Writer {
   template <class T>
   void array(const std::vector<T>& v) {
     value(std::uint64_t(v.size()));
-    bytes.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+    if (!v.empty()) bytes.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
   }
   void text(const std::string& s) { array(std::vector<char>(s.begin(), s.end())); }
 };
@@ -43,7 +43,7 @@ struct Reader {
     std::uint64_t n = value<std::uint64_t>();
     if (n > (bytes.size() - at) / sizeof(T)) throw std::runtime_error(path + ": the checkpoint is truncated");
     std::vector<T> v(n);
-    std::memcpy(v.data(), bytes.data() + at, n * sizeof(T));
+    if (n) std::memcpy(v.data(), bytes.data() + at, n * sizeof(T));  // an empty vector's data() may be null
     at += n * sizeof(T);
     return v;
   }

@@ -42,9 +42,11 @@ TEST(Checkpoint, CtrlCThenResumeEqualsUninterrupted) {
                              "--height 96 --spp 256 ";
   ASSERT_EQ(run_shell(render + "--out " + dir + "/whole").exit_code, 0);
   // Interrupted once it has started, at whatever batch it has reached; the checkpoint is written on the way out.
-  CliResult r = run_shell("timeout 300 " + render + "--checkpoint " + dir + "/ck --out " + dir + "/cut 2>" + dir +
-                          "/log & pid=$!; for i in $(seq 600); do grep -q rendering " + dir +
-                          "/log && break; sleep 0.1; done; sleep 0.5; kill -INT $pid; wait $pid; echo \"exit=$?\"");
+  // The renderer itself is signalled, once (see Cli.SigintWritesTheSamplesDoneAndExits130); a watchdog bounds it.
+  CliResult r = run_shell(render + "--checkpoint " + dir + "/ck --out " + dir + "/cut 2>" + dir + "/log & pid=$!; " +
+                          "(sleep 300; kill -KILL $pid) >/dev/null 2>&1 & watchdog=$!; for i in $(seq 600); do grep -q " +
+                          "rendering " + dir + "/log && break; sleep 0.1; done; sleep 0.5; kill -INT $pid; " +
+                          "wait $pid; echo \"exit=$?\"; kill $watchdog 2>/dev/null");
   ASSERT_NE(r.output.find("exit=130"), std::string::npos) << r.output;
   r = run_shell(render + "--resume " + dir + "/ck --out " + dir + "/resumed");
   ASSERT_EQ(r.exit_code, 0) << r.output;
