@@ -8,13 +8,12 @@ namespace {
 constexpr std::size_t kMaxChunks = 4096;  // enough parallel work for any device; one thread scans them
 }
 
-DeviceScan::DeviceScan(const DeviceContext& device, const cl::Program& program, std::size_t max_n)
+DeviceScan::DeviceScan(const DeviceContext& device, const cl::Program& program)
     : device_(device),
       totals_kernel_(program, "scan_chunk_totals"),
       scan_totals_kernel_(program, "scan_totals"),
       chunks_kernel_(program, "scan_chunks"),
       max_chunks_(kMaxChunks) {
-  (void)max_n;
   totals_ = make_buffer(device, "scan chunk totals", CL_MEM_READ_WRITE, (kMaxChunks + 1) * sizeof(cl_uint));
 }
 

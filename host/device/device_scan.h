@@ -6,7 +6,7 @@ namespace bp {
 
 class DeviceScan {
  public:
-  DeviceScan(const DeviceContext& device, const cl::Program& program, std::size_t max_n);
+  DeviceScan(const DeviceContext& device, const cl::Program& program);
   // offsets[i] = sum of values[0..i) for i <= n (offsets holds n + 1 entries). Enqueued only.
   void exclusive(Launcher& launcher, const cl::Buffer& values, std::size_t n, const cl::Buffer& offsets);
 

@@ -83,7 +83,7 @@ RayBundlePass::RayBundlePass(const DeviceContext& device, const DeviceScene& sce
       radius_(geometry.radius),
       program_(build_program(device, "bundle.cl")),
       launcher_(device),
-      scan_(device, program_.program, std::max(element_count_, tile_count_)) {
+      scan_(device, program_.program) {
   const cl::Program& p = program_.program;
   outgoing_ = cl::Kernel(p, "rb_outgoing");
   count_ = cl::Kernel(p, "rb_count");
@@ -169,7 +169,6 @@ BundleIteration RayBundlePass::iteration_params(std::uint64_t iteration) const {
   it.offset_u = ou;
   it.offset_v = ov;
   it.bins_per_side = bins_ + 1;
-  it.fragment_capacity = cl_uint(fragment_capacity_);
   it.weight_mode = settings_.weight_mode;
   it.chains = chains_;
   it.weight_ratio = settings_.weight_ratio;

@@ -45,7 +45,7 @@ typedef struct {
   float centre[3];        // centre of the scene's bounding sphere
   bp_u32 bins_per_side;   // R + 1 (the offset grid needs one more bin than R to cover the sphere)
   float omega_prev[3];    // previous iteration's direction (its incoming radiance is reflected now)
-  bp_u32 fragment_capacity;
+  bp_u32 pad0;
   bp_u32 weight_mode;     // BP_WEIGHTS_*: how chain 0 is weighted (DESIGN.md §3)
   bp_u32 chains;          // radiance values per patch and fragment: 1, or 2 with the raw chain
   float weight_ratio;     // N2 / N1

@@ -48,7 +48,7 @@ typedef struct {
   bp_u32 samples_per_launch; // samples each work-item takes for its pixel
   bp_u32 max_depth;          // safety cap on path length (Russian roulette ends paths long before)
   float ray_epsilon;         // scene-scaled offset for secondary rays, metres
-  float weight_ratio;        // N2 / N1 of the combination (DESIGN.md §1); unused while w_PT = 1
+  float weight_ratio;        // N2 / N1 of the combination (DESIGN.md §1)
   bp_u32 weight_mode;        // BP_WEIGHTS_*
   bp_u32 pad0;
 } PathTraceParams;

@@ -98,8 +98,9 @@ TEST(PathPdf, MatchesEquationNineInDoubleAndNeverOverflows) {
       path_pdf_step(&p, float(s), float(pdf));
       ASSERT_TRUE(std::isfinite(p.log_q) && std::isfinite(p.log_r));
       ASSERT_NEAR(p.log_q, log_q, 1e-5 * std::max(1.0, std::fabs(log_q)) * (k + 1));
-      if (std::isfinite(std::log(r)))
+      if (std::isfinite(std::log(r))) {
         ASSERT_NEAR(p.log_r, std::log(r), 1e-5 * std::max(1.0, std::fabs(std::log(r))) * (k + 1));
+      }
     }
     double w = pt_emission_weight(&p, BP_WEIGHTS_PAPER, 3.0f);
     ASSERT_TRUE(std::isfinite(w) && w >= 0.0 && w <= 1.0);
