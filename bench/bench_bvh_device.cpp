@@ -2,7 +2,8 @@
 // tracer runs) on the fixed ray set of bench/ray_set.h, for ~1k / 100k / 1M triangles of two
 // procedural scenes. With Embree 3 present (libembree-dev), the same rays go through Embree with as
 // many threads as the machine has, and the ratio is printed. Prints a Markdown table.
-// Usage: build/bench/bench_bvh_device [--device SPEC] [--repeat N]
+// Usage: build/bench/bench_bvh_device [--device SPEC] [--repeat N] [--max-triangles N]
+// (--max-triangles skips the larger scenes; bench/kernels.sh --quick uses it.)
 #include "ray_set.h"
 
 #include "device/device_context.h"
@@ -110,12 +111,14 @@ double embree_mrays(const bp::Scene& scene, const bp::bench::RaySet& rays, int r
 int main(int argc, char** argv) {
   std::string device_spec;
   int repeat = 5;
+  std::size_t max_triangles = ~std::size_t(0);
   for (int i = 1; i < argc; ++i) {
     std::string a = argv[i];
     if (a == "--device" && i + 1 < argc) device_spec = argv[++i];
     else if (a == "--repeat" && i + 1 < argc) repeat = std::max(1, std::stoi(argv[++i]));
+    else if (a == "--max-triangles" && i + 1 < argc) max_triangles = std::stoull(argv[++i]);
     else {
-      std::fprintf(stderr, "usage: bench_bvh_device [--device SPEC] [--repeat N]\n");
+      std::fprintf(stderr, "usage: bench_bvh_device [--device SPEC] [--repeat N] [--max-triangles N]\n");
       return 2;
     }
   }
@@ -130,6 +133,7 @@ int main(int argc, char** argv) {
 #endif
   for (const char* kind : {"rooms", "random"})
     for (std::size_t n : {1000u, 100000u, 1000000u}) {
+      if (n > max_triangles) continue;
       bp::Scene scene = std::string(kind) == "rooms" ? bp::make_rooms_scene(n, 1) : bp::make_random_triangles_scene(n, 1);
       bp::FlatBvh bvh = bp::build_bvh(scene.triangles);
       bp::bench::RaySet rays = bp::bench::make_rays(scene, bvh);

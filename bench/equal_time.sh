@@ -1,28 +1,27 @@
 #!/usr/bin/env bash
 # Equal-time comparison (the paper's claim): PT alone, RB alone and the combination with both weight
 # modes and several ratios, each for the same wall time, against a long path-traced reference
-# (cached under ~/.cache/bundlepath/references). Prints a Markdown table and writes the paper's
+# (bench/reference.sh, cached under ~/.cache/bundlepath/references). Prints a Markdown table and writes the paper's
 # Figure 4 as bench-out/<scene>-contact-sheet.png.
 # Usage: bench/equal_time.sh [SCENE] [SECONDS] [SIZE] [REFERENCE_SPP]
 set -euo pipefail
-cd "$(dirname "$0")/.."
+here=$(cd "$(dirname "$0")" && pwd)
+# shellcheck source=bench/lib.sh
+source "$here/lib.sh"
+cd "$bench_root"
 scene=${1:-scenes/cornell-glossy.gltf}
 seconds=${2:-30}
 size=${3:-128}
 ref_spp=${4:-16384}
-name=$(basename "$scene" .gltf)
-cache=${XDG_CACHE_HOME:-$HOME/.cache}/bundlepath/references
-mkdir -p "$cache" bench-out
-ref=$cache/$name-pt-$size-$ref_spp
-if [ ! -f "$ref.exr" ]; then
-  echo "rendering the reference ($ref_spp spp, once)..." >&2
-  build/bundlepath render "$scene" --width "$size" --height "$size" --spp "$ref_spp" --seed 7 --out "$ref" >&2
-fi
+name=$(bench_scene_name "$scene")
+mkdir -p bench-out
+ref=$(bench_reference "$scene" "$ref_spp" "$size")
+ref=${ref%.exr}
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 run() {  # label, then render options
   local label=$1; shift
-  build/bundlepath render "$scene" --width "$size" --height "$size" --time "$seconds" --reference "$ref.exr" \
+  bench_render "$scene" --width "$size" --height "$size" --time "$seconds" --reference "$ref.exr" \
     --out "$tmp/img" --stats "$tmp/s.json" "$@" 2>/dev/null
   python3 - "$label" "$tmp/s.json" <<'PY'
 import json, sys
@@ -42,7 +41,7 @@ done
 for ratio in 1 1/4 1/16; do
   run "combined, paper weights, ratio $ratio" --mode combined --weights paper --ratio $ratio
 done
-build/bundlepath render "$scene" --width "$size" --height "$size" --time "$seconds" --mode combined --ratio 1/16 \
+bench_render "$scene" --width "$size" --height "$size" --time "$seconds" --mode combined --ratio 1/16 \
   --reference "$ref.exr" --contact-sheet "bench-out/$name-contact-sheet.png" --out "$tmp/sheet" 2>/dev/null
 echo
-echo "(${size}x${size}, reference ${ref_spp} spp; $(build/bundlepath devices | head -1))"
+echo "(${size}x${size}, reference ${ref_spp} spp; $("$BUNDLEPATH" devices | head -1))"

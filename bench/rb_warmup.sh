@@ -4,12 +4,15 @@
 # short runs (several seeds) with a long run, for several warm-up lengths. Prints a Markdown table.
 # Usage: bench/rb_warmup.sh [SCENE]
 set -euo pipefail
-cd "$(dirname "$0")/.."
+here=$(cd "$(dirname "$0")" && pwd)
+# shellcheck source=bench/lib.sh
+source "$here/lib.sh"
+cd "$bench_root"
 scene=${1:-scenes/cornell-box.gltf}
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 size=64
-build/bundlepath render "$scene" --mode rb --width $size --height $size --iterations 20000 --warmup 64 --seed 99 \
+bench_render "$scene" --mode rb --width $size --height $size --iterations 20000 --warmup 64 --seed 99 \
   --out "$tmp/long" 2>/dev/null
 echo "| iterations | warm-up | mean level vs 20000-iteration run (8 seeds) | extra time |"
 echo "|---|---|---|---|"
@@ -17,9 +20,9 @@ for n in 50 200 1000; do
   for w in 0 4 16 64; do
     rel=()
     for seed in 1 2 3 4 5 6 7 8; do
-      build/bundlepath render "$scene" --mode rb --width $size --height $size --iterations $n --warmup $w --seed $seed \
+      bench_render "$scene" --mode rb --width $size --height $size --iterations $n --warmup $w --seed $seed \
         --out "$tmp/s" 2>/dev/null
-      rel+=("$(build/bundlepath compare "$tmp/s.exr" "$tmp/long.exr" --json | python3 -c 'import json,sys; print(json.load(sys.stdin)["relative_bias"])')")
+      rel+=("$("$BUNDLEPATH" compare "$tmp/s.exr" "$tmp/long.exr" --json | python3 -c 'import json,sys; print(json.load(sys.stdin)["relative_bias"])')")
     done
     python3 - "$n" "$w" "${rel[@]}" <<'PY'
 import statistics, sys

@@ -1,16 +1,18 @@
 #!/usr/bin/env bash
 # Cold and warm start of `bundlepath render`: the first run compiles the kernels (empty kernel
 # and PoCL caches), the second finds them in the caches. Prints kernel build and total wall time.
-# Usage: bench/startup.sh [SCENE]   (after the README's set-up command built build/bundlepath)
+# Usage: bench/startup.sh [SCENE]   (BUNDLEPATH=... picks the binary, see bench/lib.sh)
 set -euo pipefail
-cd "$(dirname "$0")/.."
-scene=${1:-scenes/cornell-box.gltf}
+here=$(cd "$(dirname "$0")" && pwd)
+# shellcheck source=bench/lib.sh
+source "$here/lib.sh"
+scene=${1:-$bench_root/scenes/cornell-box.gltf}
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 export BUNDLEPATH_CACHE_DIR=$tmp/kernels POCL_CACHE_DIR=$tmp/pocl
 for run in cold warm; do
   start=$(date +%s.%N)
-  build/bundlepath render "$scene" --width 64 --height 64 --spp 1 --out "$tmp/img" --stats "$tmp/$run.json" 2>/dev/null
+  bench_render "$scene" --width 64 --height 64 --spp 1 --out "$tmp/img" --stats "$tmp/$run.json" 2>/dev/null
   end=$(date +%s.%N)
   python3 - "$tmp/$run.json" "$run" "$start" "$end" <<'PY'
 import json, sys

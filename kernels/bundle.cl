@@ -12,6 +12,7 @@
 #include "shared/rng.h"
 #include "shared/surface.h"
 #include "shared/weights.h"
+#include "shared/lights.h"
 #include "scan.cl"
 
 #define BP_BACK_SIDE 0x80000000u
@@ -24,7 +25,8 @@ static float3 patch_normal(__global const BundleElement* elements, uint patch_el
   return (patch_element & BP_BACK_SIDE) ? -n : n;
 }
 
-// The direction along +-omega that leaves a patch's side: omega or -omega, whichever is in front.
+// The direction along +-omega that leaves a patch's side: omega or -omega, whichever is in front of n
+// (also: facing(toward, n) is the normal of the side that faces `toward`).
 static float3 facing(float3 n, float3 omega) { return dot(n, omega) >= 0.0f ? omega : -omega; }
 
 // ln of the paper's P of the radiance that leaves a patch: eq. (10) for the reflected part, P = 1 for
@@ -35,12 +37,39 @@ static float paper_log_p_out(float3 emitted, float3 reflected, float log_p_refle
   return log_add_exp(log_or_zero(le), log_or_zero(lr) + log_p_reflected) - log(le + lr);
 }
 
+// The per-patch light sample of DESIGN.md §3: one shadow ray from a random point of the patch to a
+// light chosen by power, its reflection towards wo weighted as the RB light technique of the last
+// segment (the product of the vertices before it is applied downstream, as for every reflection).
+static float3 rb_light_sample(__global const BundleElement* e, float3 n, const Bsdf* bsdf, float3 wo,
+                              __global const BvhNode* nodes, __global const BvhTriangle* triangles,
+                              __global const Light* lights, __global const float* light_cdf,
+                              __global const Material* materials, const BundleIteration* it, Rng* rng,
+                              float ray_epsilon) {
+  float root = sqrt(rng_uniform(rng)), u = rng_uniform(rng);  // uniform on the element
+  float3 x = bp_load3(e->v0) + bp_load3(e->e1) * (root * (1.0f - u)) + bp_load3(e->e2) * (root * u) + n * ray_epsilon;
+  float u_pick = rng_uniform(rng), u1 = rng_uniform(rng), u2 = rng_uniform(rng);
+  LightSample ls = light_sample(lights, light_cdf, it->light_count, materials, x, u_pick, u1, u2);
+  float cos_x = dot(n, ls.wi);
+  if (!(cos_x > 0.0f) || ls.radiance_over_pdf.x + ls.radiance_over_pdf.y + ls.radiance_over_pdf.z <= 0.0f)
+    return make_float3(0.0f, 0.0f, 0.0f);
+  float t_max = ls.is_delta ? ls.distance : ls.distance - 4.0f * ray_epsilon;
+  if (t_max <= 0.0f || bvh_occluded(nodes, triangles, x, ls.wi, t_max)) return make_float3(0.0f, 0.0f, 0.0f);
+  float pdf_bsdf = bsdf->continuation * bsdf_pdf_uv(bsdf, n, ls.wi, wo);
+  float w = last_segment_weights(1.0f, it->weight_ratio, pdf_bsdf, ls.pdf_uv, ls.is_delta).rb_light;
+  return bsdf_eval(bsdf, n, ls.wi, wo) * ls.radiance_over_pdf * (cos_x * w);  // f cos L / p_solid, weighted
+}
+
 // 1. Outgoing radiance of every patch along the new direction: the random operator T* applied to the
 //    previous incoming radiance, L_out = Le + 2 pi f(w_prev -> w_out) cos(theta_prev) L_in, with the
-//    vertex's beta multiplied in on the weighted chain of --weights product (DESIGN.md §3).
+//    vertex's beta multiplied in on the weighted chain of --weights product (DESIGN.md §3). With
+//    light sampling, chain 0 leaves Le out (receivers take it through their direct chain, weighted
+//    per fragment) and adds the reflected direct light and the patch's light sample instead.
 __kernel void rb_outgoing(__global const BundleElement* elements, __global const uint* patch_element,
                           __global const Material* materials, __global const float4* e_in,
-                          const BundleIteration it, const uint patches, __global float4* l_out) {
+                          const BundleIteration it, const uint patches, __global float4* l_out,
+                          __global const BvhNode* nodes, __global const BvhTriangle* triangles,
+                          __global const Light* lights, __global const float* light_cdf, const uint light_seed,
+                          const uint iteration, const float ray_epsilon) {
   uint p = (uint)get_global_id(0);
   if (p >= patches) return;
   uint pe = patch_element[p];
@@ -49,14 +78,26 @@ __kernel void rb_outgoing(__global const BundleElement* elements, __global const
   float3 wi = facing(n, bp_private3(it.omega_prev));
   float3 wo = facing(n, bp_private3(it.omega));
   float3 transfer = bsdf_eval(&bsdf, n, wi, wo) * BP_TWO_PI;  // 2 pi f, times E_in = L_in cos below
+  const int light_sampling = it.light_count > 0u;
   for (uint c = 0; c < it.chains; ++c) {
     float4 e = e_in[p * it.chains + c];
     float3 reflected = transfer * make_float3(e.x, e.y, e.z);
+    float3 emitted = bsdf.emission;
     float w = 0.0f;
     if (c == 0 && it.weight_mode == BP_WEIGHTS_PRODUCT) reflected *= vertex_beta(&bsdf, n, wi, wo, it.weight_ratio);
     if (c == 0 && it.weight_mode == BP_WEIGHTS_PAPER)
-      w = paper_log_p_out(bsdf.emission, reflected, paper_log_pstar_step(&bsdf, n, wi, wo, e.w));  // (10)
-    float3 l = bsdf.emission + reflected;
+      w = paper_log_pstar_step(&bsdf, n, wi, wo, e.w);  // (10)
+    if (c == 0 && light_sampling) {
+      float4 direct = e_in[p * it.chains + it.direct_chain];  // already weighted per fragment
+      reflected += transfer * make_float3(direct.x, direct.y, direct.z);
+      Rng rng = rng_init(light_seed, p, iteration);
+      reflected += rb_light_sample(&elements[pe & ~BP_BACK_SIDE], n, &bsdf, wo, nodes, triangles, lights, light_cdf,
+                                   materials, &it, &rng, ray_epsilon);
+      emitted = make_float3(0.0f, 0.0f, 0.0f);
+    }
+    if (light_sampling && c == it.direct_chain) emitted = reflected = make_float3(0.0f, 0.0f, 0.0f);  // unused
+    if (c == 0 && it.weight_mode == BP_WEIGHTS_PAPER) w = paper_log_p_out(emitted, reflected, w);
+    float3 l = emitted + reflected;
     l_out[p * it.chains + c] = (float4)(l.x, l.y, l.z, w);
   }
 }
@@ -129,15 +170,35 @@ static void sides_along(__global const BundleElement* e, float3 omega, uint* min
   *plus_patch = front_faces_minus ? e->back_patch : e->front_patch;
 }
 
+// Light straight from an emitter, as the direct chain of a receiving patch takes it: the sender's
+// Le weighted as the RB bundle technique of the last segment (DESIGN.md §3). The light travels along
+// `travel` over `distance` (the fragments' depth difference) from the sender element to the
+// receiver's side with normal n_receiver; the receiver will send it along omega_next.
+static float4 rb_direct_received(__global const BundleElement* elements, __global const Material* materials,
+                                 uint sender_element, uint receiver_element, float3 n_receiver, float3 travel,
+                                 float distance, const BundleIteration* it) {
+  __global const BundleElement* se = &elements[sender_element];
+  __global const Material* sm = &materials[se->material];
+  float3 le = bp_load3(sm->emission);
+  if (le.x + le.y + le.z <= 0.0f) return (float4)(0.0f);
+  float p_light = light_pdf_uv_area(sm->light_pdf_area, distance, fabs(dot(bp_load3(se->normal), travel)));
+  Bsdf receiver = bsdf_from_material(&materials[elements[receiver_element].material]);
+  float3 wi = facing(n_receiver, travel), wo = facing(n_receiver, bp_private3(it->omega_next));
+  float pdf_bsdf = receiver.continuation * bsdf_pdf_uv(&receiver, n_receiver, wi, wo);
+  float w = last_segment_weights(1.0f, it->weight_ratio, pdf_bsdf, p_light, 0).rb_bundle;
+  return (float4)(le.x * w, le.y * w, le.z * w, 0.0f);
+}
+
 // 5. Resolve one tile: counting sort of its fragments by bin (private counters), depth sort per bin,
 //    then the transfer: consecutive fragments exchange radiance. The side of a fragment facing
 //    -omega receives what the previous fragment sends along +omega, the other side what the next
 //    one sends along -omega; nothing in front: the (black) background.
-__kernel void rb_tile_resolve(__global const BundleElement* elements, __global const uint* tile_start,
-                              __global const uint* tiled_slot, __global const uint* tiled_local,
-                              __global const float* tiled_depth, __global const uint* tiled_element,
-                              __global uint* tile_order, __global const float4* l_out, const BundleIteration it,
-                              const uint tiles, __global float4* received_minus, __global float4* received_plus) {
+__kernel void rb_tile_resolve(__global const BundleElement* elements, __global const Material* materials,
+                              __global const uint* tile_start, __global const uint* tiled_slot,
+                              __global const uint* tiled_local, __global const float* tiled_depth,
+                              __global const uint* tiled_element, __global uint* tile_order,
+                              __global const float4* l_out, const BundleIteration it, const uint tiles,
+                              __global float4* received_minus, __global float4* received_plus) {
   uint tile = (uint)get_global_id(0);
   if (tile >= tiles) return;
   uint begin = tile_start[tile], end = tile_start[tile + 1];
@@ -152,6 +213,7 @@ __kernel void rb_tile_resolve(__global const BundleElement* elements, __global c
 
   const float3 omega = bp_private3(it.omega);
   const float4 nothing = (float4)(0.0f, 0.0f, 0.0f, BP_NO_SENDER);  // black, and no P
+  const uint chains = it.chains, direct = it.light_count > 0u ? it.direct_chain : chains;  // chains: none
   for (uint b = 0; b < BP_TILE_BINS; ++b) {
     uint first = begin + bin_start[b], last = begin + bin_start[b + 1];
     if (first == last) continue;
@@ -163,22 +225,46 @@ __kernel void rb_tile_resolve(__global const BundleElement* elements, __global c
       }
       tile_order[c] = x;
     }
-    const uint chains = it.chains;
-    uint sender = BP_NO_PATCH;  // the patch whose radiance arrives along +omega at the current fragment
+    // The patch whose radiance arrives along +omega at the current fragment, its element and depth.
+    uint sender = BP_NO_PATCH, sender_element = 0u;
+    float sender_depth = 0.0f;
     uint minus_patch, plus_patch;
     sides_along(&elements[tiled_element[tile_order[first]]], omega, &minus_patch, &plus_patch);
     for (uint a = first; a < last; ++a) {
-      uint slot = tiled_slot[tile_order[a]];
-      for (uint c = 0; c < chains; ++c)
-        received_minus[slot * chains + c] = sender != BP_NO_PATCH ? l_out[sender * chains + c] : nothing;
+      uint fragment = tile_order[a], slot = tiled_slot[fragment], element = tiled_element[fragment];
+      float depth = tiled_depth[fragment];
+      float3 n = bp_load3(elements[element].normal);
+      for (uint c = 0; c < chains; ++c) {
+        float4 r = nothing;
+        if (sender != BP_NO_PATCH && c == direct && minus_patch != BP_NO_PATCH)
+          r = rb_direct_received(elements, materials, sender_element, element, facing(-omega, n), omega,
+                                 depth - sender_depth, &it);
+        else if (sender != BP_NO_PATCH && c != direct)
+          r = l_out[sender * chains + c];
+        received_minus[slot * chains + c] = r;
+      }
+      const uint own_plus = plus_patch;
       sender = plus_patch;
-      uint next_minus = BP_NO_PATCH;
+      sender_element = element;
+      sender_depth = depth;
+      uint next_minus = BP_NO_PATCH, next_element = 0u;
+      float next_depth = 0.0f;
       if (a + 1 < last) {
-        sides_along(&elements[tiled_element[tile_order[a + 1]]], omega, &minus_patch, &plus_patch);
+        uint next = tile_order[a + 1];
+        next_element = tiled_element[next];
+        next_depth = tiled_depth[next];
+        sides_along(&elements[next_element], omega, &minus_patch, &plus_patch);
         next_minus = minus_patch;
       }
-      for (uint c = 0; c < chains; ++c)
-        received_plus[slot * chains + c] = next_minus != BP_NO_PATCH ? l_out[next_minus * chains + c] : nothing;
+      for (uint c = 0; c < chains; ++c) {
+        float4 r = nothing;
+        if (next_minus != BP_NO_PATCH && c == direct && own_plus != BP_NO_PATCH)
+          r = rb_direct_received(elements, materials, next_element, element, facing(omega, n), -omega,
+                                 next_depth - depth, &it);
+        else if (next_minus != BP_NO_PATCH && c != direct)
+          r = l_out[next_minus * chains + c];
+        received_plus[slot * chains + c] = r;
+      }
     }
   }
 }
@@ -318,7 +404,7 @@ __kernel void rb_eye(__global const EyeHit* hits, __global const BundleElement* 
   if (it.eye_outputs > 1) {
     float3 raw = bsdf.emission + reflected0;
     if (it.weight_mode == BP_WEIGHTS_PRODUCT) {
-      float4 e1 = eye_irradiance(&h, e_in, patch_vertices, e_vertex, gouraud, it.chains, 1u);
+      float4 e1 = eye_irradiance(&h, e_in, patch_vertices, e_vertex, gouraud, it.chains, it.chains - 1u);
       raw = bsdf.emission + transfer * make_float3(e1.x, e1.y, e1.z);
     }
     pixel_sum[pixel * it.eye_outputs + 1] += (float4)(raw.x, raw.y, raw.z, 0.0f);

@@ -8,18 +8,53 @@
 #include "shared/brdf.h"
 #include "shared/path_pdf.h"
 #include "shared/weights.h"
+#include "shared/lights.h"
 
 typedef struct {
   BP_GLOBAL const BvhNode* nodes;
   BP_GLOBAL const BvhTriangle* triangles;
   BP_GLOBAL const TriangleShading* shading;
   BP_GLOBAL const Material* materials;
+  BP_GLOBAL const Light* lights;
+  BP_GLOBAL const float* light_cdf;
 } SceneRefs;
 
 typedef struct {
   float3 weighted;  // each emission times w_PT of its prefix
   float3 raw;       // unweighted
 } PathRadiance;
+
+// The product of beta of the vertices before the one at `depth` (0: the eye vertex): the prefix of
+// the last-segment split of DESIGN.md §3. 0 where PT owns the last segment alone: direct light at
+// the eye vertex, and every path when PT runs without RB.
+static float last_segment_prefix_beta(const PathTraceParams* params, const PathPdf* pdf, bp_u32 depth) {
+  if (params->weight_mode != BP_WEIGHTS_PRODUCT || depth == 0u) return 0.0f;
+  return exp(pdf->log_beta_product);
+}
+
+// Next-event estimation at a vertex: one light sample, one shadow ray, weighted as the PT light
+// technique of DESIGN.md §3 (the PT-alone balance heuristic for the raw layer).
+static void add_light_sample(const SceneRefs* scene, const PathTraceParams* params, const SurfaceHit* surface,
+                             const Bsdf* bsdf, float3 wo, float3 throughput, float prefix_beta, Rng* rng,
+                             PathRadiance* radiance, bp_u32* rays) {
+  float u_pick = rng_uniform(rng), u1 = rng_uniform(rng), u2 = rng_uniform(rng);
+  float3 x = surface->position + surface->normal * params->ray_epsilon;
+  LightSample ls = light_sample(scene->lights, scene->light_cdf, params->light_count, scene->materials, x, u_pick,
+                                u1, u2);
+  float cos_x = dot(surface->normal, ls.wi);
+  if (!(cos_x > 0.0f) || ls.radiance_over_pdf.x + ls.radiance_over_pdf.y + ls.radiance_over_pdf.z <= 0.0f) return;
+  // An area light's own surface is at ls.distance: stop the shadow ray a few offsets short of it.
+  float t_max = ls.is_delta ? ls.distance : ls.distance - 4.0f * params->ray_epsilon;
+  *rays += 1u;
+  if (t_max <= 0.0f || bvh_occluded(scene->nodes, scene->triangles, x, ls.wi, t_max)) return;
+  float pdf_bsdf = bsdf->continuation * bsdf_pdf_uv(bsdf, surface->normal, ls.wi, wo);  // s p_b
+  // f cos L / p_solid  (the light-sampling estimator of the rendering equation's integral)
+  float3 contribution = throughput * bsdf_eval(bsdf, surface->normal, ls.wi, wo) * ls.radiance_over_pdf * cos_x;
+  LastSegmentWeights w = last_segment_weights(prefix_beta, params->weight_ratio, pdf_bsdf, ls.pdf_uv, ls.is_delta);
+  LastSegmentWeights alone = last_segment_weights(0.0f, params->weight_ratio, pdf_bsdf, ls.pdf_uv, ls.is_delta);
+  radiance->weighted += contribution * w.pt_light;
+  radiance->raw += contribution * alone.pt_light;
+}
 
 // Radiance of one path (one pixel sample). Counts the rays it traces.
 static PathRadiance trace_path(const SceneRefs* scene, const PathTraceParams* params, float3 origin, float3 dir,
@@ -29,6 +64,8 @@ static PathRadiance trace_path(const SceneRefs* scene, const PathTraceParams* pa
   radiance.raw = make_float3(0.0f, 0.0f, 0.0f);
   float3 throughput = make_float3(1.0f, 1.0f, 1.0f);
   PathPdf pdf = path_pdf_start();
+  const int light_sampling = params->light_count > 0u;
+  float last_prefix_beta = 0.0f, last_pdf_bsdf = 0.0f;  // of the vertex that sampled dir: its prefix, s p_b
   for (bp_u32 depth = 0; depth < params->max_depth; ++depth) {
     Hit hit;
     *rays += 1u;
@@ -38,10 +75,24 @@ static PathRadiance trace_path(const SceneRefs* scene, const PathTraceParams* pa
     Bsdf bsdf = bsdf_from_material(&scene->materials[surface.material]);
     float3 wo = -dir;
 
-    // Emission picked up after this prefix, weighted with w_PT of the prefix (DESIGN.md §3).
+    // Emission picked up after this prefix, weighted with w_PT of the prefix (DESIGN.md §3); with
+    // light sampling, as the PT BSDF technique of the last segment unless the eye sees it.
     float3 emitted = throughput * bsdf.emission;
-    radiance.raw += emitted;
-    radiance.weighted += emitted * pt_emission_weight(&pdf, params->weight_mode, params->weight_ratio);
+    if (!light_sampling || depth == 0u) {
+      radiance.raw += emitted;
+      radiance.weighted += emitted * pt_emission_weight(&pdf, params->weight_mode, params->weight_ratio);
+    } else if (emitted.x + emitted.y + emitted.z > 0.0f) {
+      float pdf_light = light_pdf_uv_area(scene->materials[surface.material].light_pdf_area, hit.t,
+                                          dot(surface.normal, wo));
+      LastSegmentWeights w = last_segment_weights(last_prefix_beta, params->weight_ratio, last_pdf_bsdf, pdf_light, 0);
+      LastSegmentWeights alone = last_segment_weights(0.0f, params->weight_ratio, last_pdf_bsdf, pdf_light, 0);
+      radiance.weighted += emitted * w.pt_bsdf;
+      radiance.raw += emitted * alone.pt_bsdf;
+    }
+
+    float prefix_beta = last_segment_prefix_beta(params, &pdf, depth);
+    if (light_sampling)
+      add_light_sample(scene, params, &surface, &bsdf, wo, throughput, prefix_beta, rng, &radiance, rays);
 
     // Russian roulette on the material-only continuation probability s.
     if (rng_uniform(rng) >= bsdf.continuation) break;
@@ -53,6 +104,8 @@ static PathRadiance trace_path(const SceneRefs* scene, const PathTraceParams* pa
     throughput *= bsdf_eval(&bsdf, surface.normal, sample.wi, wo) *
                   (cos_theta * BP_TWO_PI / (bsdf.continuation * sample.pdf_uv));
     path_pdf_step(&pdf, bsdf.continuation, sample.pdf_uv);
+    last_prefix_beta = prefix_beta;
+    last_pdf_bsdf = bsdf.continuation * sample.pdf_uv;
     if (params->weight_mode == BP_WEIGHTS_PRODUCT)
       path_pdf_multiply_beta(&pdf, vertex_beta(&bsdf, surface.normal, sample.wi, wo, params->weight_ratio));
     origin = surface.position + surface.normal * params->ray_epsilon;
@@ -63,11 +116,12 @@ static PathRadiance trace_path(const SceneRefs* scene, const PathTraceParams* pa
 
 __kernel void pathtrace(__global const BvhNode* nodes, __global const BvhTriangle* triangles,
                         __global const TriangleShading* shading, __global const Material* materials,
+                        __global const Light* lights, __global const float* light_cdf,
                         const CameraParams camera, const PathTraceParams params,
                         __global PixelAccum* accum) {
   bp_u32 pixel = (bp_u32)get_global_id(0);
   if (pixel >= camera.width * camera.height) return;
-  SceneRefs scene = {nodes, triangles, shading, materials};
+  SceneRefs scene = {nodes, triangles, shading, materials, lights, light_cdf};
   bp_u32 px = pixel % camera.width, py = pixel / camera.width;
   float3 origin = make_float3(camera.position[0], camera.position[1], camera.position[2]);
   float3 sum = make_float3(0.0f, 0.0f, 0.0f), sum_raw = make_float3(0.0f, 0.0f, 0.0f);

@@ -60,6 +60,11 @@ options (defaults in brackets):
   --weights W         combined: product (exact per-vertex weights), paper (the paper's
                       eq. 9/10 weights, one P per patch), none (plain sum: double counts)  [product]
   --ratio C           combined: PT samples per pixel per RB iteration         [1/4]
+                      0: ray bundles alone (w_RB = 1; count with --iterations or --time)
+  --no-light-sampling no next-event estimation: emitters are reached by BSDF sampling (pt) and
+                      bundles (rb) only, as in the paper. Light sampling acts in --mode pt;
+                      --mode rb and --weights paper never sample lights. Point and spot lights
+                      (KHR_lights_punctual) are reached by light sampling only
   --layers all        also write the unweighted pt_raw and rb_raw layers
   --reference REF.exr report relMSE, RMSE and mean bias of every layer against REF
   --contact-sheet F   write F.png: non-weighted PT, weighted PT, combined, non-weighted RB,
@@ -78,6 +83,10 @@ options (defaults in brackets):
   --max-depth N       safety cap on path length                [65536]
   -h, --help          this text
 )";
+}
+
+bool light_sampling_applies(const RenderOptions& o) {
+  return o.light_sampling && (o.mode == "pt" || (o.mode == "combined" && o.weights == "product"));
 }
 
 RenderOptions parse_render_options(const std::vector<std::string>& args) {
@@ -113,11 +122,12 @@ RenderOptions parse_render_options(const std::vector<std::string>& args) {
          std::string text = v;
          double value;
          if (auto slash = text.find('/'); slash != std::string::npos)  // "1/16"
-           value = parse_number<double>(k, text.substr(0, slash), 1e-9, 1e9, "a ratio like 0.25 or 1/4") /
+           value = parse_number<double>(k, text.substr(0, slash), 0.0, 1e9, "a ratio like 0.25 or 1/4") /
                    parse_number<double>(k, text.substr(slash + 1), 1e-9, 1e9, "a ratio like 0.25 or 1/4");
          else
-           value = parse_number<double>(k, text, 1e-9, 1e9, "a ratio like 0.25 or 1/4");
-         if (value < 1e-6 || value > 1e6) throw UsageError(k + ": expected a ratio in [1e-6, 1e6], got '" + v + "'");
+           value = parse_number<double>(k, text, 0.0, 1e9, "a ratio like 0.25 or 1/4");
+         if (value != 0.0 && (value < 1e-6 || value > 1e6))
+           throw UsageError(k + ": expected 0 or a ratio in [1e-6, 1e6], got '" + v + "'");
          o.ratio = value;
        }},
       {"--layers", [&](auto& k, auto& v) {
@@ -155,7 +165,9 @@ RenderOptions parse_render_options(const std::vector<std::string>& args) {
   };
   for (std::size_t i = 0; i < args.size(); ++i) {
     std::string arg = args[i];
-    if (arg.rfind("--", 0) == 0) {
+    if (arg == "--no-light-sampling") {  // the one flag without a value
+      o.light_sampling = false;
+    } else if (arg.rfind("--", 0) == 0) {
       std::string value;
       bool has_value = false;
       if (auto eq = arg.find('='); eq != std::string::npos) {
@@ -185,8 +197,13 @@ RenderOptions parse_render_options(const std::vector<std::string>& args) {
     throw UsageError("give --spp or --iterations, not both: --ratio fixes one from the other");
   if (o.mode == "pt" && !spp_given && o.seconds == 0.0) o.spp = 64;
   if (o.mode == "rb" && !iterations_given && o.seconds == 0.0) o.iterations = 1000;
-  if (o.mode == "combined" && !spp_given && !iterations_given && o.seconds == 0.0) o.spp = 64;
-  if (o.ratio == 0.0) o.ratio = 0.25;  // the best product-weight ratio measured on cornell-glossy (README)
+  if (o.ratio < 0.0) o.ratio = 0.25;  // the best product-weight ratio measured on cornell-glossy (README)
+  if (o.mode == "combined" && o.ratio == 0.0 && spp_given)
+    throw UsageError("--ratio 0 runs ray bundles alone, no path-tracer samples: count with --iterations or --time, not --spp");
+  if (o.mode == "combined" && !spp_given && !iterations_given && o.seconds == 0.0) {
+    if (o.ratio == 0.0) o.iterations = 1000;  // ray bundles alone: --mode rb's default
+    else o.spp = 64;
+  }
   if (o.out_prefix.empty()) o.out_prefix = (std::filesystem::path("out") / std::filesystem::path(o.scene).stem()).string();
   return o;
 }

@@ -28,8 +28,9 @@ struct RenderOptions {
   std::string device;            // empty: first GPU, else first CPU
   std::string mode = "pt";       // pt, rb, combined
   std::string weights = "product";  // combined: product, paper, none
-  double ratio = 0.0;            // combined: PT samples per pixel per RB iteration; 0 = the default, 1/4
+  double ratio = -1.0;           // combined: PT samples per pixel per RB iteration (0: RB alone); < 0: the default, 1/4
   bool all_layers = false;       // --layers all: also pt_raw and rb_raw
+  bool light_sampling = true;    // --no-light-sampling turns it off (light_sampling_applies says where it acts)
   std::string reference_path;    // --reference REF.exr
   std::string contact_sheet_path;
   std::string checkpoint_path;   // --checkpoint FILE: written every checkpoint_every seconds and at the end
@@ -40,6 +41,11 @@ struct RenderOptions {
   float exposure = 0.0f;         // PNG exposure in stops
   std::uint32_t max_depth = 65536;
 };
+
+// Whether light sampling (DESIGN.md §3) is part of this render: asked for, and a mode that has it
+// (--mode pt; --mode combined with product weights). RB alone, the paper's weights and the plain
+// sum keep the paper's two estimators.
+bool light_sampling_applies(const RenderOptions& o);
 
 // Parses the arguments after "render". Throws UsageError.
 RenderOptions parse_render_options(const std::vector<std::string>& args);

@@ -60,7 +60,8 @@ std::string options_key(const RenderOptions& o, int width, int height, float pat
   std::string key = "scene=" + std::filesystem::absolute(o.scene).lexically_normal().string() +
                     ";mode=" + o.mode + ";size=" + std::to_string(width) + "x" + std::to_string(height) +
                     ";seed=" + std::to_string(o.seed) + ";patch_size=" + std::to_string(patch_size) +
-                    ";max_depth=" + std::to_string(o.max_depth) + ";layers=" + (o.all_layers ? "all" : "default");
+                    ";max_depth=" + std::to_string(o.max_depth) + ";layers=" + (o.all_layers ? "all" : "default") +
+                    ";light_sampling=" + (light_sampling_applies(o) ? "on" : "off");
   if (o.mode != "pt")
     key += ";bins=" + std::to_string(bins) + ";warmup=" + std::to_string(o.warmup) +
            ";shading=" + (o.gouraud ? "gouraud" : "flat");
@@ -104,7 +105,6 @@ int run_render(const RenderOptions& o) {
   double bvh_seconds = seconds_since(t_bvh);
 
   const bool use_pt = o.mode != "rb", use_rb = o.mode != "pt";
-  const std::uint32_t weight_mode = weight_mode_of(o);
   std::optional<RoundShape> shape;
   if (o.mode == "combined") {
     try {
@@ -113,10 +113,13 @@ int run_render(const RenderOptions& o) {
       throw UsageError(e.what());
     }
   }
-  const float ratio_n2_over_n1 = shape ? float(1.0 / shape->ratio()) : 1.0f;
+  // The weights both passes use; --ratio 0 (no PT samples) runs RB unweighted, w_RB = 1.
+  const CombinedWeights weights = shape ? combined_weights(weight_mode_of(o), *shape) : CombinedWeights{};
+  const std::uint32_t weight_mode = weights.mode;
+  const float ratio_n2_over_n1 = weights.ratio_n2_over_n1;
 
   DeviceContext device(select_device(o.device));
-  DeviceScene device_scene(device, bvh, pack_triangle_shading(scene, patches), pack_materials(scene));
+  DeviceScene device_scene(device, scene, patches, bvh);
   const CameraParams camera = pack_camera(scene.camera, width, height);
   Accumulator pt_accum(width, height, o.all_layers), rb_accum(width, height, o.all_layers);
 
@@ -127,6 +130,7 @@ int run_render(const RenderOptions& o) {
     settings.max_depth = o.max_depth;
     settings.weight_mode = weight_mode;
     settings.weight_ratio = ratio_n2_over_n1;
+    settings.light_sampling = light_sampling_applies(o);
     pt = std::make_unique<PathTracerPass>(device, device_scene, camera, ray_epsilon_for(scene.bounds), settings, pt_accum);
   }
   std::unique_ptr<RayBundlePass> rb;
@@ -138,6 +142,7 @@ int run_render(const RenderOptions& o) {
     rb_settings.bins = o.bins ? o.bins : default_bins(size);
     rb_settings.warmup = o.warmup;
     rb_settings.gouraud = o.gouraud;
+    rb_settings.light_sampling = light_sampling_applies(o) && device_scene.light_count > 0;
     rb_settings.weight_mode = weight_mode;
     rb_settings.weight_ratio = ratio_n2_over_n1;
     rb_settings.keep_raw = o.all_layers;
@@ -196,13 +201,15 @@ int run_render(const RenderOptions& o) {
                scene.triangles.size(), patches.patch_count, device.description().c_str());
   ProgressBar bar(o.mode);
   const double pixels = double(width) * height;
-  const double samples_per_round = shape ? shape->pt_samples * pixels : (o.mode == "pt" ? pixels : 1.0);
+  const bool counts_iterations = o.mode == "rb" || (shape && shape->pt_samples == 0);
+  const double samples_per_round =
+      counts_iterations ? (shape ? shape->rb_iterations : 1.0) : (shape ? shape->pt_samples * pixels : pixels);
   RenderOutcome outcome = run_progressive(
       *pass, RenderBudget{rounds, o.seconds}, stop_requested(),
       [&](const RenderProgress& p) {
         double secs = std::max(p.elapsed_seconds, 1e-9);
         bar.update(p.fraction, double(p.rounds_done - first_round) * samples_per_round / secs,
-                   double(p.rays) / secs * 1e-6, p.elapsed_seconds, o.mode == "rb" ? "iterations/s" : "samples/s");
+                   double(p.rays) / secs * 1e-6, p.elapsed_seconds, counts_iterations ? "iterations/s" : "samples/s");
         if (!o.checkpoint_path.empty() && p.elapsed_seconds - last_save >= o.checkpoint_every) {
           save_checkpoint(p.rounds_done, p.elapsed_seconds);
           last_save = p.elapsed_seconds;
@@ -289,6 +296,8 @@ int run_render(const RenderOptions& o) {
     stats["mrays_per_second"] = mrays_per_second;
     stats["nan_or_inf_samples"] = outcome.nonfinite_samples;
     stats["interrupted"] = outcome.interrupted;
+    stats["light_sampling"] = light_sampling_applies(o) && device_scene.light_count > 0;
+    stats["lights"] = device_scene.light_count;
     if (!o.resume_path.empty()) stats["resumed_from_rounds"] = first_round;
     if (!o.checkpoint_path.empty()) stats["checkpoint"] = o.checkpoint_path;
     if (shape) {

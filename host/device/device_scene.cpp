@@ -5,7 +5,7 @@
 
 namespace bp {
 
-std::vector<Material> pack_materials(const Scene& scene) {
+std::vector<Material> pack_materials(const Scene& scene, const LightList& lights) {
   std::vector<Material> out;
   out.reserve(scene.materials.size());
   for (const SceneMaterial& m : scene.materials) {
@@ -16,6 +16,7 @@ std::vector<Material> pack_materials(const Scene& scene) {
       p.emission[c] = m.emission[c];
     }
     p.shininess = m.shininess;
+    p.light_pdf_area = lights.material_pdf_area.empty() ? 0.0f : lights.material_pdf_area[out.size()];
     p.flags = m.double_sided ? BP_MATERIAL_DOUBLE_SIDED : 0u;
     out.push_back(p);
   }
@@ -69,16 +70,36 @@ float ray_epsilon_for(const Bounds& bounds) {
   return std::max(1e-5f * diagonal, 3e-7f * magnitude);
 }
 
-DeviceScene::DeviceScene(const DeviceContext& device, const FlatBvh& bvh, const std::vector<TriangleShading>& shading_in,
-                         const std::vector<Material>& materials_in)
-    : nodes(upload_buffer(device, "bvh nodes", bvh.nodes)),
-      triangles(upload_buffer(device, "bvh triangles", bvh.triangles)),
-      shading(upload_buffer(device, "triangle shading", shading_in)),
-      materials(upload_buffer(device, "materials", materials_in)),
-      triangle_count(shading_in.size()),
-      node_count(bvh.nodes.size()) {
+namespace {
+
+template <typename T>
+std::vector<T> at_least_one(std::vector<T> v) {
+  if (v.empty()) v.emplace_back();  // OpenCL has no empty buffers
+  return v;
+}
+
+}  // namespace
+
+DeviceScene::DeviceScene(const DeviceContext& device, const Scene& scene, const PatchLayout& patches,
+                         const FlatBvh& bvh) {
+  const LightList light_list = build_light_list(scene);
+  const std::vector<TriangleShading> shading_in = pack_triangle_shading(scene, patches);
+  const std::vector<Material> materials_in = pack_materials(scene, light_list);
+  const std::vector<Light> lights_in = at_least_one(light_list.lights);
+  const std::vector<float> cdf_in = at_least_one(light_list.cdf);
+  nodes = upload_buffer(device, "bvh nodes", bvh.nodes);
+  triangles = upload_buffer(device, "bvh triangles", bvh.triangles);
+  shading = upload_buffer(device, "triangle shading", shading_in);
+  materials = upload_buffer(device, "materials", materials_in);
+  lights = upload_buffer(device, "lights", lights_in);
+  light_cdf = upload_buffer(device, "light cdf", cdf_in);
+  triangle_count = shading_in.size();
+  node_count = bvh.nodes.size();
+  light_count = std::uint32_t(light_list.lights.size());
+  ray_epsilon = ray_epsilon_for(scene.bounds);
   bytes = bvh.nodes.size() * sizeof(BvhNode) + bvh.triangles.size() * sizeof(BvhTriangle) +
-          shading_in.size() * sizeof(TriangleShading) + materials_in.size() * sizeof(Material);
+          shading_in.size() * sizeof(TriangleShading) + materials_in.size() * sizeof(Material) +
+          lights_in.size() * sizeof(Light) + cdf_in.size() * sizeof(float);
 }
 
 }  // namespace bp

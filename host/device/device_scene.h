@@ -3,6 +3,7 @@
 #pragma once
 #include "device/device_context.h"
 #include "scene/bvh.h"
+#include "scene/lights.h"
 #include "scene/patches.h"
 #include "scene/scene.h"
 #include "kernels/shared/types.h"
@@ -11,7 +12,7 @@
 namespace bp {
 
 // Host-side packing, separate from upload so it can be tested without a device.
-std::vector<Material> pack_materials(const Scene& scene);
+std::vector<Material> pack_materials(const Scene& scene, const LightList& lights);
 std::vector<TriangleShading> pack_triangle_shading(const Scene& scene, const PatchLayout& patches);
 CameraParams pack_camera(const SceneCamera& camera, int width, int height);
 // Offset for secondary rays: relative to the scene's size and coordinate magnitude, so it works at
@@ -20,10 +21,12 @@ float ray_epsilon_for(const Bounds& bounds);
 
 struct DeviceScene {
   cl::Buffer nodes, triangles, shading, materials;
+  cl::Buffer lights, light_cdf;  // one dummy entry each when the scene has no light to sample
   std::size_t triangle_count = 0, node_count = 0;
+  std::uint32_t light_count = 0;
+  float ray_epsilon = 0.0f;  // ray_epsilon_for(the scene's bounds)
   std::size_t bytes = 0;  // device memory held
-  DeviceScene(const DeviceContext& device, const FlatBvh& bvh, const std::vector<TriangleShading>& shading,
-              const std::vector<Material>& materials);
+  DeviceScene(const DeviceContext& device, const Scene& scene, const PatchLayout& patches, const FlatBvh& bvh);
 };
 
 }  // namespace bp

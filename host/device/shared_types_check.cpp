@@ -19,6 +19,11 @@ static_assert(offsetof(PixelAccum, raw) == 16);
 
 #include "kernels/shared/bundle_types.h"
 BP_CHECK_LAYOUT(BundleElement, 64);
-BP_CHECK_LAYOUT(BundleIteration, 96);
-static_assert(offsetof(BundleIteration, omega_prev) == 64 && offsetof(BundleIteration, weight_ratio) == 88);
+BP_CHECK_LAYOUT(BundleIteration, 112);
+static_assert(offsetof(BundleIteration, omega_prev) == 64 && offsetof(BundleIteration, weight_ratio) == 88 &&
+              offsetof(BundleIteration, omega_next) == 96);
 BP_CHECK_LAYOUT(EyeHit, 32);
+
+#include "kernels/shared/lights.h"
+BP_CHECK_LAYOUT(Light, 96);
+static_assert(offsetof(Light, axis) == 48 && offsetof(Light, intensity) == 64 && offsetof(Light, cos_inner) == 80);

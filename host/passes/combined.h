@@ -8,6 +8,7 @@
 namespace bp {
 
 // One round: pt_samples samples per pixel and rb_iterations iterations; c = pt_samples / rb_iterations.
+// pt_samples = 0 (c = 0) is ray bundles alone.
 struct RoundShape {
   std::uint32_t pt_samples = 1;
   std::uint32_t rb_iterations = 1;
@@ -15,12 +16,26 @@ struct RoundShape {
 };
 
 // The smallest integer round whose ratio is c (within 1 %): c >= 1 gives (round(c), 1), c < 1 gives
-// (1, round(1/c)). Throws std::invalid_argument naming --ratio for c outside [1e-6, 1e6] or not finite.
+// (1, round(1/c)), c = 0 gives (0, 1). Throws std::invalid_argument naming --ratio for c outside
+// {0} ∪ [1e-6, 1e6] or not finite.
 RoundShape round_shape(double c);
+
+// The weight mode and N2 / N1 that both passes get for `mode` (BP_WEIGHTS_*) at this round shape.
+// With no PT samples (c = 0) every weight is trivially w_RB = 1 (product: β = N2 / (N2 + 0·…) = 1;
+// paper: N2 / (0·P* + N2) = 1), so RB runs unweighted (BP_WEIGHTS_NONE): passing N2 / N1 = ∞ to the
+// kernels would make β = ∞ / (∞ + p) a NaN.
+struct CombinedWeights {
+  std::uint32_t mode = BP_WEIGHTS_NONE;
+  float ratio_n2_over_n1 = 1.0f;
+};
+CombinedWeights combined_weights(std::uint32_t mode, const RoundShape& shape);
 
 class CombinedPass : public ProgressivePass {
  public:
   CombinedPass(PathTracerPass& pt, RayBundlePass& rb, RoundShape shape) : pt_(pt), rb_(rb), shape_(shape) {}
+  // Rounds [first, first + count). The PT samples go to the path tracer in launches of at most its
+  // max_batch() that end on multiples of it (at --ratio 1e4 one round alone has 10^4 samples per
+  // pixel, which one launch would sum in float); RB flushes its float sums every max_batch() itself.
   BatchCounts run(std::uint64_t first, std::uint32_t count) override;
   std::uint32_t max_batch() const override;
   const Launcher& launcher() const override { return pt_.launcher(); }

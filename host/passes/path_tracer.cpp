@@ -12,12 +12,14 @@ PathTracerPass::PathTracerPass(const DeviceContext& device, const DeviceScene& s
   params_.ray_epsilon = ray_epsilon;
   params_.weight_mode = settings.weight_mode;
   params_.weight_ratio = settings.weight_ratio;
+  params_.light_count = settings.light_sampling ? scene.light_count : 0u;
   program_ = build_program(device, "pathtrace.cl");
   kernel_ = cl::Kernel(program_.program, "pathtrace");
   std::size_t pixels = std::size_t(camera.width) * camera.height;
   host_pixels_.resize(pixels);
   pixels_ = make_buffer(device, "pixel accumulators", CL_MEM_WRITE_ONLY, pixels * sizeof(PixelAccum));
-  set_args(kernel_, scene.nodes, scene.triangles, scene.shading, scene.materials, camera_, params_, pixels_);
+  set_args(kernel_, scene.nodes, scene.triangles, scene.shading, scene.materials, scene.lights, scene.light_cdf, camera_,
+           params_, pixels_);
 }
 
 std::uint32_t PathTracerPass::max_batch() const {
@@ -28,7 +30,7 @@ BatchCounts PathTracerPass::run(std::uint64_t first, std::uint32_t count) {
   Accumulator& accum = accum_;
   params_.first_sample = std::uint32_t(first);
   params_.samples_per_launch = count;
-  kernel_.setArg(5, params_);
+  kernel_.setArg(7, params_);
   launcher_.launch("pathtrace", kernel_, host_pixels_.size(), 64);
   launcher_.finish();
   device_.queue.enqueueReadBuffer(pixels_, CL_TRUE, 0, host_pixels_.size() * sizeof(PixelAccum), host_pixels_.data());

@@ -14,6 +14,7 @@ struct PathTracerSettings {
   std::uint32_t max_depth = 65536;            // safety cap; Russian roulette ends paths first
   std::uint32_t weight_mode = BP_WEIGHTS_NONE;
   float weight_ratio = 1.0f;                  // N2 / N1
+  bool light_sampling = true;                 // next-event estimation (DESIGN.md §3), where the scene has lights
 };
 
 class PathTracerPass : public ProgressivePass {

@@ -11,6 +11,7 @@ namespace bp {
 namespace {
 
 constexpr std::uint32_t kDirectionStream = 0x0b0d1e5u;  // RNG stream of the iteration directions
+constexpr std::uint32_t kLightSeedSalt = 0x119b7a11u;   // the per-patch light samples' seed: seed ^ salt
 // key, depth, element; their tiled copies with the slot and the tile order; 2 received radiances
 constexpr std::size_t kFragmentBytes = 3 * 4 + 5 * 4 + 2 * 16;
 
@@ -36,8 +37,15 @@ std::size_t fragment_allocation(const BundleSize& size, std::uint32_t bins) {
 }
 }  // namespace
 
+namespace {
+bool samples_lights(const RayBundleSettings& settings) {
+  return settings.weight_mode == BP_WEIGHTS_PRODUCT && settings.light_sampling;
+}
+}  // namespace
+
 std::uint32_t bundle_chains(const RayBundleSettings& settings) {
-  return settings.weight_mode == BP_WEIGHTS_PRODUCT && settings.keep_raw ? 2u : 1u;
+  const bool product = settings.weight_mode == BP_WEIGHTS_PRODUCT;
+  return 1u + (samples_lights(settings) ? 1u : 0u) + (product && settings.keep_raw ? 1u : 0u);
 }
 
 std::size_t estimate_bundle_memory(const BundleSize& size, std::uint32_t bins, std::size_t pixels, std::uint32_t chains) {
@@ -154,12 +162,13 @@ BundleIteration RayBundlePass::iteration_params(std::uint64_t iteration) const {
   float rotation = 0, ou = 0, ov = 0;
   float3 omega = direction(iteration, &rotation, &ou, &ov);
   float3 prev = iteration > 0 ? direction(iteration - 1, nullptr, nullptr, nullptr) : omega;
+  float3 next = direction(iteration + 1, nullptr, nullptr, nullptr);  // drawn one ahead (DESIGN.md §3)
   Frame f = frame_from_normal(omega);
   float3 u = f.t * std::cos(rotation) + f.b * std::sin(rotation);
   float3 v = cross(omega, u);
-  const float3 vectors[4] = {omega, u, v, prev};
-  float* targets[4] = {it.omega, it.axis_u, it.axis_v, it.omega_prev};
-  for (int k = 0; k < 4; ++k) {
+  const float3 vectors[5] = {omega, u, v, prev, next};
+  float* targets[5] = {it.omega, it.axis_u, it.axis_v, it.omega_prev, it.omega_next};
+  for (int k = 0; k < 5; ++k) {
     targets[k][0] = vectors[k].x;
     targets[k][1] = vectors[k].y;
     targets[k][2] = vectors[k].z;
@@ -173,13 +182,17 @@ BundleIteration RayBundlePass::iteration_params(std::uint64_t iteration) const {
   it.chains = chains_;
   it.weight_ratio = settings_.weight_ratio;
   it.eye_outputs = eye_outputs_;
+  it.light_count = samples_lights(settings_) ? scene_.light_count : 0u;
+  it.direct_chain = samples_lights(settings_) ? 1u : 0u;
   return it;
 }
 
 std::uint64_t RayBundlePass::iterate(std::uint64_t iteration) {
   const BundleIteration it = iteration_params(iteration);
   const cl_uint patches = as_uint(patch_count_), elements = as_uint(element_count_);
-  set_args(outgoing_, elements_, patch_element_, scene_.materials, e_in_, it, patches, l_out_);
+  set_args(outgoing_, elements_, patch_element_, scene_.materials, e_in_, it, patches, l_out_, scene_.nodes,
+           scene_.triangles, scene_.lights, scene_.light_cdf, cl_uint(settings_.seed ^ kLightSeedSalt),
+           cl_uint(iteration), scene_.ray_epsilon);
   launcher_.launch("rb_outgoing", outgoing_, patch_count_, 64);
 
   set_args(count_, elements_, it, elements, fragment_counts_);
@@ -200,7 +213,7 @@ std::uint64_t RayBundlePass::iterate(std::uint64_t iteration) {
   set_args(tile_scatter_, fragment_key_, fragment_depth_, fragment_element_, fragments, tile_cursor_, tiled_slot_,
            tiled_local_, tiled_depth_, tiled_element_);
   launcher_.launch("rb_tile_scatter", tile_scatter_, fragments, 64);
-  set_args(tile_resolve_, elements_, tile_start_, tiled_slot_, tiled_local_, tiled_depth_, tiled_element_, tile_order_,
+  set_args(tile_resolve_, elements_, scene_.materials, tile_start_, tiled_slot_, tiled_local_, tiled_depth_, tiled_element_, tile_order_,
            l_out_, it, as_uint(tile_count_), received_minus_, received_plus_);
   launcher_.launch("rb_tile_resolve", tile_resolve_, tile_count_, 8);
 
@@ -210,7 +223,6 @@ std::uint64_t RayBundlePass::iterate(std::uint64_t iteration) {
 }
 
 BatchCounts RayBundlePass::run(std::uint64_t first, std::uint32_t count) {
-  Accumulator& accum = accum_;
   BatchCounts counts;
   if (!warmed_up_) {
     for (std::uint32_t w = 0; w < settings_.warmup; ++w) counts.fragments += iterate(w);
@@ -233,7 +245,18 @@ BatchCounts RayBundlePass::run(std::uint64_t first, std::uint32_t count) {
     set_args(eye_, eye_hits_buffer_, elements_, patch_element_, scene_.materials, e_in_, patch_vertices_, e_vertex_,
              cl_uint(settings_.gouraud ? 1 : 0), it, as_uint(pixel_count_), pixel_sum_);
     launcher_.launch("rb_eye", eye_, pixel_count_, 64);
+    // The device sums the eye estimates in float: move them to the host's double sums after every
+    // max_batch() iterations (on multiples of it, wherever a batch starts) and at the batch's end, so
+    // no float sum ever holds more than max_batch() terms -- also when a caller asks for 10^4
+    // iterations at once (a round at --ratio 1e-4).
+    if ((first + k + 1) % max_batch() == 0 || k + 1 == count) flush_pixel_sums(counts);
   }
+  accum_.samples_per_pixel += count;
+  return counts;
+}
+
+void RayBundlePass::flush_pixel_sums(BatchCounts& counts) {
+  Accumulator& accum = accum_;
   launcher_.finish();
   const std::size_t bytes = host_pixel_sum_.size() * sizeof(cl_float4);
   device_.queue.enqueueReadBuffer(pixel_sum_, CL_TRUE, 0, bytes, host_pixel_sum_.data());
@@ -242,15 +265,13 @@ BatchCounts RayBundlePass::run(std::uint64_t first, std::uint32_t count) {
     const cl_float4& w = host_pixel_sum_[i * eye_outputs_];
     const cl_float4& raw = host_pixel_sum_[i * eye_outputs_ + eye_outputs_ - 1];
     if (!std::isfinite(w.s[0] + w.s[1] + w.s[2] + raw.s[0] + raw.s[1] + raw.s[2])) {
-      ++counts.nonfinite_samples;  // a pixel's batch is dropped whole, and counted
+      ++counts.nonfinite_samples;  // a pixel's sum since the last flush is dropped whole, and counted
       continue;
     }
     for (int c = 0; c < 3; ++c) accum.sum[i * 3 + c] += double(w.s[c]);
     if (accum.keeps_raw())
       for (int c = 0; c < 3; ++c) accum.raw_sum[i * 3 + c] += double(raw.s[c]);
   }
-  accum.samples_per_pixel += count;
-  return counts;
 }
 
 namespace {

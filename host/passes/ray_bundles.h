@@ -22,6 +22,8 @@ struct RayBundleSettings {
   std::uint32_t weight_mode = BP_WEIGHTS_NONE;
   float weight_ratio = 1.0f;          // N2 / N1
   bool keep_raw = false;              // also the unweighted image (rb_raw)
+  bool light_sampling = false;        // per-patch light samples and per-fragment weighted direct light
+                                      // (DESIGN.md §3); product weights only, where the scene has lights
 };
 
 // Bins per side so that an element of average area covers `bins_per_element` bins on average
@@ -31,8 +33,8 @@ std::uint32_t default_bins(const BundleSize& size, double bins_per_element = 4.0
 // Expected fragments per iteration: sum of projected areas over the bin area, exact in expectation.
 double expected_fragments(const BundleSize& size, std::uint32_t bins);
 
-// Radiance chains the pass keeps per patch and fragment: the weighted one, plus the unweighted one
-// when --weights product must also give rb_raw.
+// Radiance chains the pass keeps per patch and fragment: the weighted one, the direct one with light
+// sampling, and the unweighted one when --weights product must also give rb_raw (bundle_types.h).
 std::uint32_t bundle_chains(const RayBundleSettings& settings);
 
 // Device memory the pass will allocate (host memory alike), for the check before allocating.
@@ -49,7 +51,8 @@ class RayBundlePass : public ProgressivePass {
   RayBundlePass(const DeviceContext& device, const DeviceScene& scene, const BundleGeometry& geometry,
                 const CameraParams& camera, const RayBundleSettings& settings, Accumulator& accum);
 
-  // Iterations [first, first + count) (after the warm-up, run on the first call).
+  // Iterations [first, first + count) (after the warm-up, run on the first call). Any count: the
+  // device's float sums are flushed to the accumulator's doubles every max_batch() iterations.
   BatchCounts run(std::uint64_t first, std::uint32_t count) override;
   std::uint32_t max_batch() const override { return 64; }
   const Launcher& launcher() const override { return launcher_; }
@@ -81,6 +84,8 @@ class RayBundlePass : public ProgressivePass {
  private:
   void ensure_fragment_capacity(std::size_t fragments);
   void trace_eye_hits(std::uint64_t jitter_index);
+  // Adds the device's float sums of eye estimates into the accumulator (double) and clears them.
+  void flush_pixel_sums(BatchCounts& counts);
 
   const DeviceContext& device_;
   const DeviceScene& scene_;

@@ -661,6 +661,10 @@ class Loader {
              std::to_string(model_.cameras.size()) + " cameras");
       take_camera(node.camera, n, world);
     }
+    if (const auto* light = extension(node.extensions, "KHR_lights_punctual", "light")) {
+      if (!light->IsInt()) fail(obj + " KHR_lights_punctual.light is not an index");
+      take_light(light->GetNumberAsInt(), n, world);
+    }
     if (node.mesh == -1) return;
     if (node.mesh < 0 || std::size_t(node.mesh) >= model_.meshes.size())
       fail(obj + " refers to mesh " + std::to_string(node.mesh) + ", but the file has " +
@@ -713,6 +717,50 @@ class Loader {
     camera_found_ = true;
   }
 
+  // KHR_lights_punctual: position from the node, direction its -z; intensity in candela (lm/sr),
+  // made radiometric (W/sr) at 683 lm/W -- the factor Blender's exporter multiplies watts by.
+  static constexpr double kLumensPerWatt = 683.0;
+  void take_light(int l, int n, const glm::dmat4& world) {
+    const std::string obj = "KHR_lights_punctual light " + std::to_string(l);
+    if (l < 0 || std::size_t(l) >= model_.lights.size())
+      fail("node " + std::to_string(n) + " refers to " + obj + ", but the file has " +
+           std::to_string(model_.lights.size()) + " lights");
+    const auto& light = model_.lights[l];
+    const std::string name = obj + quoted(light.name);
+    if (light.type == "directional") {
+      scene_.warnings.push_back(name + " is directional; only point and spot lights are supported, ignored");
+      return;
+    }
+    if (light.type != "point" && light.type != "spot") fail(name + " has unknown type \"" + light.type + "\"");
+    ScenePunctualLight out;
+    out.name = light.name;
+    out.kind = light.type == "spot" ? ScenePunctualLight::Kind::spot : ScenePunctualLight::Kind::point;
+    glm::dvec3 colour(1.0);
+    if (!light.color.empty()) {
+      if (light.color.size() != 3) fail(name + " color is not an array of 3 numbers");
+      colour = glm::dvec3(light.color[0], light.color[1], light.color[2]);
+    }
+    if (!(light.intensity >= 0.0 && std::isfinite(light.intensity)))
+      fail(name + " has intensity " + std::to_string(light.intensity) + " (expected a finite number >= 0)");
+    if (!(colour.x >= 0.0 && colour.y >= 0.0 && colour.z >= 0.0 && std::isfinite(colour.x + colour.y + colour.z)))
+      fail(name + " has a color outside [0, inf)");
+    out.intensity = glm::vec3(colour * (light.intensity / kLumensPerWatt));
+    if (out.kind == ScenePunctualLight::Kind::spot) {
+      const double inner = light.spot.innerConeAngle, outer = light.spot.outerConeAngle;
+      if (!(inner >= 0.0 && inner < outer && outer <= 0.5 * M_PI))
+        fail(name + " has cone angles inner " + std::to_string(inner) + ", outer " + std::to_string(outer) +
+             " (glTF needs 0 <= inner < outer <= pi/2)");
+      out.inner_cone = float(inner);
+      out.outer_cone = float(outer);
+    }
+    out.position = glm::vec3(world * glm::dvec4(0, 0, 0, 1));
+    const glm::dvec3 axis = glm::dmat3(world) * glm::dvec3(0, 0, -1);
+    if (!(glm::length(axis) > 0.0) || !all_finite(world))
+      fail("node " + std::to_string(n) + " gives " + name + " a degenerate orientation");
+    out.direction = glm::vec3(glm::normalize(axis));
+    scene_.lights.push_back(out);
+  }
+
   // ------------------------------------------------------------------ the end
 
   void finish() {
@@ -743,7 +791,7 @@ class Loader {
       scene_.camera = cam;
       scene_.warnings.push_back("no camera in file; using a default view");
     }
-    if (scene_.emissive_triangles() == 0) scene_.warnings.push_back("no emitter: the image will be black");
+    if (!scene_.has_light()) scene_.warnings.push_back("no emitter: the image will be black");
   }
 
   std::string path_;

@@ -23,6 +23,19 @@ struct SceneTriangle {
   std::uint32_t material = 0;
 };
 
+// A KHR_lights_punctual light. glTF gives intensity in candela; the loader converts it to radiant
+// intensity (W sr^-1) at 683 lm/W. No range cut-off: the inverse square law everywhere.
+struct ScenePunctualLight {
+  enum class Kind { point, spot };
+  Kind kind = Kind::point;
+  std::string name;
+  glm::vec3 position{0.0f};
+  glm::vec3 direction{0.0f, 0.0f, -1.0f};  // unit; spot: the cone's axis
+  glm::vec3 intensity{1.0f};               // colour times intensity, W sr^-1
+  float inner_cone = 0.0f;                 // spot: radians, full intensity within
+  float outer_cone = 0.7853982f;           // spot: radians, no light beyond
+};
+
 struct SceneCamera {
   glm::vec3 position{0.0f};
   glm::vec3 forward{0.0f, 0.0f, -1.0f};  // unit; the view direction
@@ -44,10 +57,12 @@ struct Scene {
   std::string source;                    // file it came from
   std::vector<SceneTriangle> triangles;
   std::vector<SceneMaterial> materials;  // index 0: the default material; file material i is at i + 1
+  std::vector<ScenePunctualLight> lights;
   SceneCamera camera;
   Bounds bounds;
   std::vector<std::string> warnings;     // things the loader accepted but a user should know
   std::size_t emissive_triangles() const;
+  bool has_light() const { return emissive_triangles() > 0 || !lights.empty(); }
 };
 
 }  // namespace bp

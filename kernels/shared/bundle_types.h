@@ -45,14 +45,19 @@ typedef struct {
   float centre[3];        // centre of the scene's bounding sphere
   bp_u32 bins_per_side;   // R + 1 (the offset grid needs one more bin than R to cover the sphere)
   float omega_prev[3];    // previous iteration's direction (its incoming radiance is reflected now)
-  bp_u32 pad0;
+  bp_u32 light_count;     // lights to sample (kernels/shared/lights.h); 0: no light sampling
   bp_u32 weight_mode;     // BP_WEIGHTS_*: how chain 0 is weighted (DESIGN.md §3)
-  bp_u32 chains;          // radiance values per patch and fragment: 1, or 2 with the raw chain
+  bp_u32 chains;          // radiance values per patch and fragment (see below)
   float weight_ratio;     // N2 / N1
   bp_u32 eye_outputs;     // per pixel: 1 (weighted), or 2 (weighted, raw)
+  float omega_next[3];    // next iteration's direction: where the light arriving now will be sent
+  bp_u32 direct_chain;    // the chain of light straight from emitters (light sampling), 0: none
 } BundleIteration;
 
-// Chain 1, when present, is the unweighted chain of --weights product (the rb_raw layer). In the
+// Chains per patch and fragment: chain 0 is the weighted one. With light sampling (product weights)
+// chain direct_chain = 1 holds the light that arrives straight from emitters, weighted per fragment
+// as the RB bundle technique of the last segment (DESIGN.md §3), and chain 0 then holds the rest.
+// The unweighted chain of --weights product (the rb_raw layer), when kept, is the last one. In the
 // paper's mode chain 0 is unweighted and its .w carries ln of the paper's P (eq. 10) of the radiance.
 
 // One cached primary hit per pixel: the patch the eye sees and where on it.

@@ -13,7 +13,7 @@ typedef struct {
   float ks[3];
   bp_u32 flags;          // BP_MATERIAL_*
   float emission[3];     // radiance Le, W sr^-1 m^-2
-  float pad0;
+  float light_pdf_area;  // light sampling's density on this material's emitters: P(select) / area, m^-2 (lights.h)
 } Material;
 
 // What shading needs of a triangle besides its geometry (the BVH owns the geometry).
@@ -50,7 +50,7 @@ typedef struct {
   float ray_epsilon;         // scene-scaled offset for secondary rays, metres
   float weight_ratio;        // N2 / N1 of the combination (DESIGN.md §1)
   bp_u32 weight_mode;        // BP_WEIGHTS_*
-  bp_u32 pad0;
+  bp_u32 light_count;        // lights to sample (kernels/shared/lights.h); 0: no light sampling
 } PathTraceParams;
 
 #define BP_WEIGHTS_NONE 0u

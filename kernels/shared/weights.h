@@ -37,4 +37,41 @@ BP_FN float paper_rb_weight(float log_pstar, float ratio_n2_over_n1) {
   return 1.0f / (1.0f + exp(log_pstar - log(ratio_n2_over_n1)));
 }
 
+// The four techniques that can make the last segment of a path (the connection from x_{n-1} to the
+// emitter) when light sampling is on (DESIGN.md §3, "Light sampling as a strategy"): RB bundle
+// (density 1, N2 samples), RB per-patch light sample (p_L, N2), PT BSDF (s p_b, N1), PT light sample
+// (p_L, N1). With D = N2 (1 + p_L) + N1 (s p_b + p_L) and the product prefix_beta of the vertices
+// before x_{n-1}:
+//   w_RB,bundle = prefix_beta N2 / D,  w_RB,light = prefix_beta N2 p_L / D,  R = their sum,
+//   w_PT,bsdf = (1 - R) s p_b / (s p_b + p_L),  w_PT,light = (1 - R) p_L / (s p_b + p_L).
+// prefix_beta = 0 gives PT alone its balance heuristic: the eye vertex's direct light, or
+// --weights none. A delta light (p_L infinite) splits N2 : N1 between the two light samples.
+typedef struct {
+  float rb_bundle, rb_light, pt_bsdf, pt_light;
+} LastSegmentWeights;
+
+BP_FN LastSegmentWeights last_segment_weights(float prefix_beta, float ratio_n2_over_n1, float pdf_bsdf_uv,
+                                              float pdf_light_uv, int is_delta) {
+  LastSegmentWeights w;
+  w.rb_bundle = 0.0f;
+  if (is_delta) {
+    w.rb_light = prefix_beta * ratio_n2_over_n1 / (ratio_n2_over_n1 + 1.0f);
+    w.pt_bsdf = 0.0f;
+    w.pt_light = 1.0f - w.rb_light;
+    return w;
+  }
+  // Every term divided by m = max(1, s p_b, p_L) and by N1, so nothing overflows for sharp lobes
+  // or lights seen at grazing angles.
+  float m = fmax(1.0f, fmax(pdf_bsdf_uv, pdf_light_uv));
+  float bsdf = pdf_bsdf_uv / m, light = pdf_light_uv / m, c = ratio_n2_over_n1;
+  float d = c * (1.0f / m + light) + bsdf + light;
+  w.rb_bundle = d > 0.0f ? prefix_beta * (c / m) / d : 0.0f;
+  w.rb_light = d > 0.0f ? prefix_beta * (c * light) / d : 0.0f;
+  float pt_share = 1.0f - (w.rb_bundle + w.rb_light);
+  float pt_sum = bsdf + light;
+  w.pt_bsdf = pt_sum > 0.0f ? pt_share * bsdf / pt_sum : 0.5f * pt_share;
+  w.pt_light = pt_sum > 0.0f ? pt_share * light / pt_sum : 0.5f * pt_share;
+  return w;
+}
+
 #endif  // BP_SHARED_WEIGHTS_H

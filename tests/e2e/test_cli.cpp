@@ -127,7 +127,9 @@ TEST(Cli, CombinedModeOptionErrors) {
   std::string dir = fresh_dir("combined_errors");
   struct Case { std::string args, needle; int code; };
   const Case cases[] = {
-      {"--mode combined --ratio 0", "--ratio", 2},
+      {"--mode combined --ratio 1e-7", "--ratio", 2},
+      {"--mode combined --ratio -1", "--ratio", 2},
+      {"--mode combined --ratio 0 --spp 4", "--ratio 0", 2},  // RB alone: no PT samples to count
       {"--mode combined --ratio 1/0", "--ratio", 2},
       {"--mode combined --weights heavy", "--weights", 2},
       {"--mode combined --spp 4 --iterations 4", "not both", 2},

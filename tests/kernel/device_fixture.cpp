@@ -16,14 +16,15 @@ const DeviceContext& test_device() {
 }
 
 RenderRun render_pt(const Scene& scene, int width, int height, std::uint64_t spp, std::uint32_t seed,
-                    std::uint32_t max_depth) {
+                    std::uint32_t max_depth, bool light_sampling) {
   const DeviceContext& device = test_device();
   PatchLayout patches = build_patch_layout(scene, default_patch_size(scene));
   FlatBvh bvh = build_bvh(scene.triangles);
-  DeviceScene device_scene(device, bvh, pack_triangle_shading(scene, patches), pack_materials(scene));
+  DeviceScene device_scene(device, scene, patches, bvh);
   PathTracerSettings settings;
   settings.seed = seed;
   settings.max_depth = max_depth;
+  settings.light_sampling = light_sampling;
   Accumulator accum(width, height);
   PathTracerPass pass(device, device_scene, pack_camera(scene.camera, width, height), ray_epsilon_for(scene.bounds),
                       settings, accum);
@@ -41,9 +42,7 @@ std::unique_ptr<BundleRig> make_bundle_rig(const Scene& scene, float patch_size,
   rig->patches = build_patch_layout(rig->scene, patch_size);
   rig->bvh = build_bvh(rig->scene.triangles);
   rig->geometry = build_bundle_geometry(rig->scene, rig->patches);
-  rig->device_scene = std::make_unique<DeviceScene>(test_device(), rig->bvh,
-                                                    pack_triangle_shading(rig->scene, rig->patches),
-                                                    pack_materials(rig->scene));
+  rig->device_scene = std::make_unique<DeviceScene>(test_device(), rig->scene, rig->patches, rig->bvh);
   RayBundleSettings settings;
   settings.seed = seed;
   settings.bins = bins;
@@ -98,28 +97,33 @@ CombinedRun render_combined(const Scene& scene, int width, int height, const Com
   PatchLayout patches = build_patch_layout(scene, cs.patch_size);
   FlatBvh bvh = build_bvh(scene.triangles);
   BundleGeometry geometry = build_bundle_geometry(scene, patches);
-  DeviceScene device_scene(device, bvh, pack_triangle_shading(scene, patches), pack_materials(scene));
+  DeviceScene device_scene(device, scene, patches, bvh);
   const CameraParams camera = pack_camera(scene.camera, width, height);
-  const float ratio = float(cs.rb_iterations_per_round) / float(cs.pt_samples_per_round);  // N2 / N1
+  const RoundShape shape{cs.pt_samples_per_round, cs.rb_iterations_per_round};
+  const CombinedWeights weights = combined_weights(cs.weight_mode, shape);  // pt_samples_per_round 0: RB alone
   Accumulator pt_accum(width, height), rb_accum(width, height);
   PathTracerSettings pts;
   pts.seed = cs.seed;
-  pts.weight_mode = cs.weight_mode;
-  pts.weight_ratio = ratio;
+  pts.weight_mode = weights.mode;
+  pts.weight_ratio = weights.ratio_n2_over_n1;
+  pts.light_sampling = cs.light_sampling;
   PathTracerPass pt(device, device_scene, camera, ray_epsilon_for(scene.bounds), pts, pt_accum);
   RayBundleSettings rbs;
   rbs.seed = cs.seed;
   rbs.bins = cs.bins;
   rbs.warmup = cs.warmup;
-  rbs.weight_mode = cs.weight_mode;
-  rbs.weight_ratio = ratio;
+  rbs.weight_mode = weights.mode;
+  rbs.weight_ratio = weights.ratio_n2_over_n1;
+  rbs.light_sampling = cs.light_sampling;
   RayBundlePass rb(device, device_scene, geometry, camera, rbs, rb_accum);
-  CombinedPass combined(pt, rb, RoundShape{cs.pt_samples_per_round, cs.rb_iterations_per_round});
+  CombinedPass combined(pt, rb, shape);
   std::atomic<bool> never{false};
   CombinedRun run;
   run.outcome = run_progressive(combined, RenderBudget{cs.rounds, 0.0}, never, nullptr);
   run.pt = pt_accum.mean();
   run.rb = rb_accum.mean();
+  run.pt_max_batch = pt.max_batch();
+  run.rb_max_batch = rb.max_batch();
   run.combined = run.pt;
   for (std::size_t i = 0; i < run.combined.rgb.size(); ++i) run.combined.rgb[i] += run.rb.rgb[i];
   return run;

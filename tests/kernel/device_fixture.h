@@ -22,7 +22,7 @@ struct RenderRun {
 };
 
 RenderRun render_pt(const Scene& scene, int width, int height, std::uint64_t spp, std::uint32_t seed,
-                    std::uint32_t max_depth = 65536);
+                    std::uint32_t max_depth = 65536, bool light_sampling = true);
 
 // Everything a ray-bundle test needs, built from a Scene the way the CLI builds it.
 struct BundleRig {
@@ -52,13 +52,15 @@ double parallel_rectangles_form_factor(double a, double b, double c);
 struct CombinedRun {
   ImageRGB pt, rb, combined;
   RenderOutcome outcome;
+  std::uint32_t pt_max_batch = 0, rb_max_batch = 0;  // the most rounds each pass sums in float before the host's doubles
 };
 struct CombinedSettings {
   std::uint32_t weight_mode = BP_WEIGHTS_PRODUCT;
-  std::uint32_t pt_samples_per_round = 1, rb_iterations_per_round = 4;
+  std::uint32_t pt_samples_per_round = 1, rb_iterations_per_round = 4;  // 0 PT samples: RB alone (--ratio 0)
   std::uint64_t rounds = 16;
   std::uint32_t seed = 1, bins = 0, warmup = 16;
   float patch_size = 0.1f;
+  bool light_sampling = false;
 };
 CombinedRun render_combined(const Scene& scene, int width, int height, const CombinedSettings& settings);
 

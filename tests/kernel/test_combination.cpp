@@ -2,7 +2,7 @@
 // reference (per-region t-tests at the run's sample counts), the error keeps falling with longer
 // runs, and the plain sum (--weights none) is caught as biased.
 #include "kernel/device_fixture.h"
-#include "stats.h"
+#include "kernel/region_test.h"
 
 #include <gtest/gtest.h>
 #include <cmath>
@@ -11,78 +11,15 @@
 namespace bp::test {
 namespace {
 
-constexpr int kSize = 32, kBlock = 8, kBlocksPerSide = kSize / kBlock, kCells = kBlocksPerSide * kBlocksPerSide * 3;
-
-std::vector<double> block_means(const ImageRGB& img) {
-  std::vector<double> b(kCells, 0.0);
-  for (int y = 0; y < kSize; ++y)
-    for (int x = 0; x < kSize; ++x)
-      for (int c = 0; c < 3; ++c)
-        b[((y / kBlock) * kBlocksPerSide + x / kBlock) * 3 + c] += img.pixel(x, y)[c] / (kBlock * kBlock);
-  return b;
-}
-
-struct Sample {  // per cell, and for the whole image: mean over independent runs and its standard error
-  std::vector<double> mean, se;
-  double level = 0.0, level_se = 0.0;
-};
-
-template <class Render>
-Sample independent_runs(int runs, Render render) {
-  std::vector<std::vector<double>> all;
-  for (int k = 0; k < runs; ++k) all.push_back(block_means(render(std::uint32_t(1000 + 37 * k))));
-  Sample s{std::vector<double>(kCells, 0.0), std::vector<double>(kCells, 0.0)};
-  for (int c = 0; c < kCells; ++c) {
-    for (int k = 0; k < runs; ++k) s.mean[c] += all[k][c] / runs;
-    double var = 0.0;
-    for (int k = 0; k < runs; ++k) var += (all[k][c] - s.mean[c]) * (all[k][c] - s.mean[c]) / (runs - 1);
-    s.se[c] = std::sqrt(var / runs);
-  }
-  std::vector<double> levels(runs, 0.0);
-  for (int k = 0; k < runs; ++k)
-    for (int c = 0; c < kCells; ++c) levels[k] += all[k][c] / kCells;
-  for (int k = 0; k < runs; ++k) s.level += levels[k] / runs;
-  double var = 0.0;
-  for (int k = 0; k < runs; ++k) var += (levels[k] - s.level) * (levels[k] - s.level) / (runs - 1);
-  s.level_se = std::sqrt(var / runs);
-  return s;
-}
-
-double relative_mse(const ImageRGB& image, const std::vector<double>& reference_blocks) {
-  std::vector<double> b = block_means(image);
-  double sum = 0.0;
-  for (int c = 0; c < kCells; ++c) {
-    double d = b[c] - reference_blocks[c];
-    sum += d * d / (reference_blocks[c] * reference_blocks[c] + 0.01);
-  }
-  return sum / kCells;
-}
-
-CombinedRun combined_run(const Scene& scene, std::uint32_t mode, std::uint64_t rounds, std::uint32_t seed) {
+CombinedRun combined_run(const Scene& scene, std::uint32_t mode, std::uint64_t rounds, std::uint32_t seed,
+                         bool light_sampling = false) {
   CombinedSettings cs;
+  cs.light_sampling = light_sampling;
   cs.weight_mode = mode;
   cs.seed = seed;
   cs.rounds = rounds;
   cs.patch_size = 0.05f;
   return render_combined(scene, kSize, kSize, cs);
-}
-
-// Cells (8x8 blocks x channels, and the image level) where `tested` differs from `reference` beyond a
-// t-test at Šidák-corrected alpha 0.01; each Sample holds `runs` independent runs.
-std::vector<std::string> significant_differences(const Sample& tested, const Sample& reference, int runs) {
-  const double alpha = sidak_alpha(0.01, kCells + 1);
-  std::vector<std::string> out;
-  for (int c = 0; c < kCells; ++c) {
-    double t = (tested.mean[c] - reference.mean[c]) / std::hypot(tested.se[c], reference.se[c]);
-    if (!(student_t_two_sided_p(t, runs - 1) > alpha))
-      out.push_back("cell " + std::to_string(c) + ": " + std::to_string(tested.mean[c]) + " vs " +
-                    std::to_string(reference.mean[c]) + " (t " + std::to_string(t) + ")");
-  }
-  double t = (tested.level - reference.level) / std::hypot(tested.level_se, reference.level_se);
-  if (!(student_t_two_sided_p(t, runs - 1) > alpha))
-    out.push_back("image level: " + std::to_string(tested.level) + " vs " + std::to_string(reference.level) +
-                  " (t " + std::to_string(t) + ")");
-  return out;
 }
 
 // A glossy floor under a small light: the combination with the product weights converges to the path
@@ -101,6 +38,32 @@ TEST(Combination, ProductWeightsConvergeToThePathTracedReferenceAndThePlainSumDo
     return combined_run(scene, BP_WEIGHTS_NONE, 64, seed + 1).combined;
   });
   EXPECT_FALSE(significant_differences(none, reference, runs).empty()) << "the plain sum was not caught";
+}
+
+// Light sampling as a further strategy (DESIGN.md §3): the four techniques of the last segment keep
+// the product combination unbiased, for an area light and for a point light (which only the PT and
+// RB light samples reach).
+void expect_light_sampled_combination_unbiased(const Scene& scene) {
+  const int runs = 8;
+  Sample reference = independent_runs(runs, [&](std::uint32_t seed) { return render_pt(scene, kSize, kSize, 256, seed).image; });
+  Sample combined = independent_runs(runs, [&](std::uint32_t seed) {
+    return combined_run(scene, BP_WEIGHTS_PRODUCT, 64, seed + 1, true).combined;
+  });
+  for (const std::string& d : significant_differences(combined, reference, runs)) ADD_FAILURE() << d;
+}
+
+TEST(Combination, LightSamplingKeepsTheProductWeightsUnbiasedUnderAnAreaLight) {
+  expect_light_sampled_combination_unbiased(make_glossy_light_box());
+}
+
+TEST(Combination, LightSamplingKeepsTheProductWeightsUnbiasedUnderAPointLight) {
+  Scene scene = make_glossy_light_box();
+  for (SceneMaterial& m : scene.materials) m.emission = glm::vec3(0.0f);
+  ScenePunctualLight point;
+  point.position = glm::vec3(0.1f, 0.3f, -0.1f);
+  point.intensity = glm::vec3(1.0f, 0.8f, 0.6f);
+  scene.lights.push_back(point);
+  expect_light_sampled_combination_unbiased(scene);
 }
 
 TEST(Combination, ErrorKeepsFallingAsTheRunGetsLonger) {

@@ -1,0 +1,125 @@
+#!/usr/bin/env bash
+# Convergence study: every scene x every mode at wall-time budgets 1, 2, 4, ... up to --cap seconds,
+# relMSE / RMSE / mean bias of each image against a long path-traced reference (bench/reference.sh,
+# cached). Writes OUT/convergence.csv, OUT/convergence.md (efficiency table relative to PT) and one
+# log-log plot per scene, OUT/convergence-<scene>.png.
+#
+# Usage: bench/convergence.sh [--quick] [--out DIR] [--cap SECONDS] [--size PIXELS] [--scenes "A B"]
+#                             [--modes "LABEL ..."] [--mode-table FILE] [--no-plots] [--references-only]
+#   --quick            32x32, budget 1 s, 256-spp references: checks the pipeline, not the figures
+#   --mode-table FILE  extra modes, one "label|renderer flags" per line (added to MODES below)
+# Environment: see bench/lib.sh (BUNDLEPATH, BENCH_CACHE, BENCH_DEVICE, BENCH_REF_FLAGS);
+#   BENCH_EXTRA_MODES="label|flags;label|flags" adds modes too.
+set -euo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
+# shellcheck source=bench/lib.sh
+source "$here/lib.sh"
+
+# The scenes: name (scenes/NAME.gltf, or rooms-N = procedural rooms of N triangles) and the
+# reference's samples per pixel for the full study.
+SCENES=(
+  "cornell-box 16384"
+  "cornell-glossy 16384"
+  "rooms-100000 8192"
+)
+# The modes: label | renderer flags. Add a line to add a mode. A line naming a flag that
+# `bundlepath render --help` does not know is skipped with a note (so rows for features that are
+# still being written can sit here).
+MODES=(
+  "pt|--mode pt"
+  "pt-no-light-sampling|--mode pt --no-light-sampling"
+  "rb|--mode rb"
+  "combined-paper|--mode combined --weights paper"
+  "combined-product|--mode combined --weights product"
+)
+
+quick=0; out=""; cap=16; size=128; plots=1; refs_only=0; only_scenes=""; only_modes=""; ref_spp_override=""
+while [ $# -gt 0 ]; do
+  case $1 in
+    --quick) quick=1 ;;
+    --out) out=$2; shift ;;
+    --cap) cap=$2; shift ;;
+    --size) size=$2; shift ;;
+    --scenes) only_scenes=$2; shift ;;
+    --modes) only_modes=$2; shift ;;
+    --ref-spp) ref_spp_override=$2; shift ;;
+    --mode-table) while IFS= read -r line; do
+                    case $line in ''|'#'*) ;; *) MODES+=("$line") ;; esac
+                  done < "$2"; shift ;;
+    --no-plots) plots=0 ;;
+    --references-only) refs_only=1 ;;
+    -h|--help) sed -n '2,14p' "$0"; exit 0 ;;
+    *) echo "convergence.sh: unknown option $1" >&2; exit 2 ;;
+  esac
+  shift
+done
+if [ -n "${BENCH_EXTRA_MODES:-}" ]; then
+  IFS=';' read -r -a extra_modes <<< "$BENCH_EXTRA_MODES"
+  MODES+=("${extra_modes[@]}")
+fi
+if [ $quick -eq 1 ]; then
+  cap=1; size=32; ref_spp_override=${ref_spp_override:-256}
+  out=${out:-$bench_root/bench-out/quick}
+fi
+out=${out:-$bench_root/bench/results}
+mkdir -p "$out"
+if [ $plots -eq 1 ] && ! command -v gnuplot >/dev/null; then
+  echo "convergence.sh: gnuplot is missing (bash bench/setup.sh installs it), or pass --no-plots" >&2
+  exit 2
+fi
+
+budgets=()
+for ((b = 1; b <= cap; b *= 2)); do budgets+=("$b"); done
+
+# Skip modes whose flags this renderer does not have (yet).
+usable_modes=()
+for entry in "${MODES[@]}"; do
+  label=${entry%%|*}; flags=${entry#*|}
+  if [ -n "$only_modes" ] && [[ " $only_modes " != *" $label "* ]]; then continue; fi
+  missing=""
+  for tok in $flags; do
+    case $tok in --*) bench_has_flag "$tok" || missing="$missing $tok" ;; esac
+  done
+  if [ -n "$missing" ]; then
+    echo "convergence.sh: skipping mode '$label': the renderer has no$missing" >&2
+    continue
+  fi
+  usable_modes+=("$entry")
+done
+
+csv=$out/convergence.csv
+log=$out/convergence.log
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+[ $refs_only -eq 1 ] || { : > "$csv"; : > "$log"; }
+
+for entry in "${SCENES[@]}"; do
+  read -r name spp <<< "$entry"
+  if [ -n "$only_scenes" ] && [[ " $only_scenes " != *" $name "* ]]; then continue; fi
+  spp=${ref_spp_override:-$spp}
+  scene=$(bench_scene "$name")
+  ref=$(bench_reference "$scene" "$spp" "$size")
+  [ $refs_only -eq 1 ] && { echo "reference $name: $ref"; continue; }
+  for m in "${usable_modes[@]}"; do
+    label=${m%%|*}; flags=${m#*|}
+    i=0
+    for b in "${budgets[@]}"; do
+      i=$((i + 1))
+      seed=$((1000 + i))  # never the reference's seed (7), a different stream per budget
+      echo "convergence: $name $label ${b}s" >&2
+      rm -f "$tmp/s.json"
+      rc=0
+      # shellcheck disable=SC2086
+      bench_render "$scene" $flags --width "$size" --height "$size" --time "$b" --seed "$seed" \
+        --reference "$ref" --out "$tmp/img" --stats "$tmp/s.json" 2>>"$log" || rc=$?
+      status=ok; [ $rc -eq 0 ] || status=exit-$rc
+      python3 "$here/report.py" append "$csv" convergence --stats "$tmp/s.json" --status "$status" \
+        scene="$name" mode="$label" flags="$flags" budget_s="$b" seed="$seed" reference="$(basename "$ref")" \
+        reference_spp="$spp"
+    done
+  done
+done
+[ $refs_only -eq 1 ] && exit 0
+plot_arg=(); [ $plots -eq 1 ] || plot_arg=(--no-plots)
+python3 "$here/report.py" convergence "$csv" "$out" "${plot_arg[@]}"
+echo "convergence: wrote $csv and $out/convergence.md" >&2

@@ -1,0 +1,123 @@
+# shellcheck shell=bash
+# Shared by the bench scripts (source it; it does not run anything by itself).
+#
+# Environment (all optional):
+#   BUNDLEPATH        the renderer binary                 [build/bundlepath]
+#   BENCH_BUILD_DIR   where bench executables live        [the binary's folder]
+#   BENCH_CACHE       reference images, generated scenes [${XDG_CACHE_HOME:-~/.cache}/bundlepath]
+#   BENCH_DEVICE      passed to every render as --device  [the renderer's default]
+#   BENCH_REF_FLAGS   extra flags for reference renders (e.g. light sampling, once it exists)
+#
+# bench_reference SCENE SPP SIZE   -> prints the path of a cached PT reference (.exr), rendering it
+#                                     first if needed (resumable chunks, see bench/reference.sh)
+# bench_rooms_scene TRIANGLES      -> prints the path of a cached procedural rooms scene (.glb)
+# bench_render ARGS...             -> the renderer with BENCH_DEVICE applied, stderr kept in a log
+# bench_has_flag FLAG              -> true when `render --help` mentions FLAG
+
+bench_root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+BUNDLEPATH=${BUNDLEPATH:-$bench_root/build/bundlepath}
+case $BUNDLEPATH in /*) ;; *) BUNDLEPATH=$PWD/$BUNDLEPATH ;; esac
+BENCH_BUILD_DIR=${BENCH_BUILD_DIR:-$(dirname "$BUNDLEPATH")}
+BENCH_CACHE=${BENCH_CACHE:-${XDG_CACHE_HOME:-$HOME/.cache}/bundlepath}
+BENCH_REF_CHUNK=${BENCH_REF_CHUNK:-120}   # seconds per resumable reference chunk
+export BUNDLEPATH BENCH_BUILD_DIR BENCH_CACHE
+
+if [ ! -x "$BUNDLEPATH" ]; then
+  echo "bench: no renderer at $BUNDLEPATH (build it, or set BUNDLEPATH=...)" >&2
+  exit 2
+fi
+
+bench_device_args() {
+  if [ -n "${BENCH_DEVICE:-}" ]; then printf '%s\n' --device "$BENCH_DEVICE"; fi
+}
+
+bench_render() {
+  local -a dev
+  mapfile -t dev < <(bench_device_args)
+  "$BUNDLEPATH" render "$@" "${dev[@]}"
+}
+
+bench_has_flag() {
+  "$BUNDLEPATH" render --help 2>&1 | grep -q -- "$1\b"
+}
+
+# A short tag of a scene file's contents, so a changed scene never reuses a stale reference.
+bench_scene_tag() {
+  sha256sum "$1" | cut -c1-10
+}
+
+bench_scene_name() {
+  local b
+  b=$(basename "$1")
+  echo "${b%.*}"
+}
+
+# bench_reference SCENE SPP SIZE: the one place that renders and caches path-traced references.
+# The render runs in chunks of BENCH_REF_CHUNK seconds with a checkpoint, so an interrupted
+# reference (Ctrl-C, a killed job) continues where it stopped the next time it is asked for.
+bench_reference() {
+  local scene=$1 spp=$2 size=$3
+  local dir=$BENCH_CACHE/references
+  mkdir -p "$dir"
+  local flags_tag=""
+  if [ -n "${BENCH_REF_FLAGS:-}" ]; then flags_tag=-$(echo "$BENCH_REF_FLAGS" | sha256sum | cut -c1-6); fi
+  local ref
+  ref=$dir/$(bench_scene_name "$scene")-$(bench_scene_tag "$scene")-pt-$size-$spp$flags_tag
+  if [ -f "$ref.exr" ]; then echo "$ref.exr"; return 0; fi
+  local ck=$ref.checkpoint part=$ref.partial
+  local -a resume=()
+  # shellcheck disable=SC2206
+  local -a extra=(${BENCH_REF_FLAGS:-})
+  while :; do
+    if [ -f "$ck" ]; then resume=(--resume "$ck"); echo "bench: resuming reference $(basename "$ref") ..." >&2
+    else echo "bench: rendering reference $(basename "$ref") ($spp spp at ${size}x$size, once; cached in $dir) ..." >&2
+    fi
+    local rc=0
+    bench_render "$scene" --mode pt --width "$size" --height "$size" --spp "$spp" --seed 7 "${extra[@]}" \
+      --time "$BENCH_REF_CHUNK" --checkpoint "$ck" --checkpoint-every 30 "${resume[@]}" \
+      --out "$part" --stats "$part.json" >&2 2>>"$ref.log" || rc=$?
+    if [ $rc -ne 0 ]; then
+      echo "bench: reference render failed (exit $rc); see $ref.log (rerun to resume)" >&2
+      return $rc
+    fi
+    local done_spp
+    done_spp=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["spp"])' "$part.json")
+    if [ "$done_spp" -ge "$spp" ]; then break; fi
+    echo "bench: reference at $done_spp / $spp spp" >&2
+  done
+  mv "$part.json" "$ref.json"
+  mv "$part.png" "$ref.png" 2>/dev/null || true
+  mv "$part.exr" "$ref.exr"
+  rm -f "$ck"
+  echo "$ref.exr"
+}
+
+# bench_rooms_scene TRIANGLES: a procedural rooms scene (host/scene/procedural.cpp) written as .glb
+# by bench/make_rooms, cached (it is a pure function of the triangle count and seed).
+bench_rooms_scene() {
+  local n=$1 seed=${2:-1}
+  local dir=$BENCH_CACHE/scenes
+  mkdir -p "$dir"
+  local out=$dir/rooms-$n-s$seed.glb
+  if [ ! -f "$out" ]; then
+    local tool=$BENCH_BUILD_DIR/bench/make_rooms
+    [ -x "$tool" ] || tool=$BENCH_BUILD_DIR/make_rooms
+    if [ ! -x "$tool" ]; then
+      echo "bench: $tool missing (build the 'make_rooms' target)" >&2
+      return 2
+    fi
+    "$tool" "$n" "$out.tmp.glb" --seed "$seed" >&2
+    mv "$out.tmp.glb" "$out"
+  fi
+  echo "$out"
+}
+
+# bench_scene NAME: a scene name of the study -> a file. cornell-box, cornell-glossy (scenes/),
+# rooms-N (procedural, N triangles), or a path.
+bench_scene() {
+  case $1 in
+    rooms-*) bench_rooms_scene "${1#rooms-}" ;;
+    *.gltf|*.glb) echo "$1" ;;
+    *) echo "$bench_root/scenes/$1.gltf" ;;
+  esac
+}

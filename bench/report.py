@@ -1,0 +1,404 @@
+#!/usr/bin/env python3
+"""CSV rows, Markdown tables and gnuplot plots for the bench studies (Python 3 standard library only;
+plots need gnuplot, installed by bench/setup.sh).
+
+  report.py append CSV STUDY --stats S.json [--rss-kb FILE] [--status S] [KEY=VALUE ...]
+      add one run to CSV (header written when the file is new). STUDY picks the columns:
+      convergence, knobs or scaling. Every number comes from the renderer's --stats JSON
+      (render_seconds, spp, iterations, and relMSE / RMSE / mean bias of the `combined` layer
+      against --reference) or from /usr/bin/time (max RSS).
+  report.py convergence CSV OUTDIR [--no-plots]   -> OUTDIR/convergence.md, convergence-<scene>.png
+  report.py knobs CSV OUTDIR [--no-plots]         -> OUTDIR/knobs.md, knobs-<knob>.png
+  report.py scaling CSV OUTDIR                    -> OUTDIR/scaling.md
+  report.py check CSV STUDY [--min-rows N]        -> exit 1 unless the CSV is well formed
+"""
+import csv
+import json
+import math
+import os
+import shutil
+import subprocess
+import sys
+
+COLUMNS = {
+    "convergence": ["scene", "mode", "flags", "budget_s", "seed", "status", "render_seconds", "spp", "iterations",
+                    "rel_mse", "rmse", "mean_bias", "triangles", "patches", "bins", "width", "height", "reference",
+                    "reference_spp"],
+    "knobs": ["knob", "value", "flags", "budget_s", "seed", "status", "render_seconds", "spp", "iterations",
+              "rel_mse", "rmse", "mean_bias", "patches", "bins", "ratio", "width", "height", "reference",
+              "reference_spp"],
+    "scaling": ["series", "scene", "mode", "flags", "status", "triangles", "patches", "bins", "width", "height",
+                "render_seconds", "spp", "iterations", "ms_per_sample", "ms_per_iteration", "fragments_per_iteration",
+                "kernel_build_seconds", "load_seconds", "max_rss_mib", "device_mib"],
+}
+NUMERIC = {"budget_s", "render_seconds", "spp", "iterations", "rel_mse", "rmse", "mean_bias", "triangles", "patches",
+           "bins", "width", "height", "reference_spp", "ms_per_sample", "ms_per_iteration", "fragments_per_iteration",
+           "kernel_build_seconds", "load_seconds", "max_rss_mib", "device_mib", "ratio", "seed"}
+
+
+def fnum(x):
+    try:
+        v = float(x)
+        return v if math.isfinite(v) else None
+    except (TypeError, ValueError):
+        return None
+
+
+def read_rows(path):
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+# ----------------------------------------------------------------------------------------- append
+
+def cmd_append(args):
+    path, study = args[0], args[1]
+    cols = COLUMNS[study]
+    row = {c: "" for c in cols}
+    stats_path = rss_path = None
+    status = "ok"
+    rest = args[2:]
+    i = 0
+    while i < len(rest):
+        a = rest[i]
+        if a == "--stats":
+            stats_path = rest[i + 1]; i += 2
+        elif a == "--rss-kb":
+            rss_path = rest[i + 1]; i += 2
+        elif a == "--status":
+            status = rest[i + 1]; i += 2
+        else:
+            key, _, value = a.partition("=")
+            if key not in row:
+                sys.exit(f"report.py: unknown column {key!r} for {study}")
+            row[key] = value
+            i += 1
+    s = {}
+    if stats_path and os.path.exists(stats_path):
+        try:
+            with open(stats_path) as f:
+                s = json.load(f)
+        except (OSError, ValueError):
+            s = {}
+    if not s and status == "ok":
+        status = "no-stats"
+    row["status"] = status
+    for key in ("render_seconds", "spp", "iterations", "triangles", "patches", "bins", "width", "height",
+                "fragments_per_iteration", "kernel_build_seconds", "load_seconds", "ratio"):
+        if key in row and key in s and s[key] is not None:
+            row[key] = s[key]
+    if s.get("interrupted"):
+        row["status"] = "interrupted"
+    layer = s.get("reference", {}).get("layers", {}).get("combined")
+    if layer and "rel_mse" in row:
+        row["rel_mse"], row["rmse"], row["mean_bias"] = layer["rel_mse"], layer["rmse"], layer["mean_bias"]
+    secs = fnum(s.get("render_seconds"))
+    if "ms_per_sample" in row and secs and fnum(s.get("spp")):
+        row["ms_per_sample"] = 1e3 * secs / float(s["spp"])
+    if "ms_per_iteration" in row and secs and fnum(s.get("iterations")):
+        # includes the eye estimate and the warm-up iterations' share of the time (rb mode)
+        row["ms_per_iteration"] = s.get("ms_per_iteration") or 1e3 * secs / float(s["iterations"])
+    if "device_mib" in row:
+        for key in ("device_bytes", "device_memory_bytes", "peak_device_bytes"):  # if the renderer reports it
+            if fnum(s.get(key)):
+                row["device_mib"] = float(s[key]) / 2**20
+    if rss_path and "max_rss_mib" in row and os.path.exists(rss_path):
+        with open(rss_path) as f:
+            lines = [ln.strip() for ln in f if ln.strip().isdigit()]
+        if lines:
+            row["max_rss_mib"] = int(lines[-1]) / 1024.0
+    new = not os.path.exists(path) or os.path.getsize(path) == 0
+    with open(path, "a", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=cols)
+        if new:
+            w.writeheader()
+        w.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in row.items()})
+
+
+# ----------------------------------------------------------------------------------------- plots
+
+def gnuplot_available():
+    return shutil.which("gnuplot") is not None
+
+
+def loglog_plot(png, title, series, ylabel="relMSE vs reference", xlabel="render time (s)", guide=True):
+    """series: list of (label, [(x, y), ...]). Writes png, its data and the .gp script beside it.
+    guide: a dashed 1/t line through the first series' first point (an unbiased estimator's slope)."""
+    base = os.path.splitext(png)[0]
+    data = base + ".dat"
+    blocks, plots = [], []
+    idx = 0
+    for label, pts in series:
+        pts = [(x, y) for x, y in pts if x and y and x > 0 and y > 0]
+        if not pts:
+            continue
+        blocks.append(f"# {label}\n" + "\n".join(f"{x:.6g} {y:.6g}" for x, y in sorted(pts)) + "\n")
+        plots.append(f"'{os.path.basename(data)}' index {idx} with linespoints lw 2 pt 7 title \"{label}\"")
+        idx += 1
+    with open(data, "w") as f:
+        f.write("\n\n".join(blocks))
+    first = next((sorted((x, y) for x, y in pts if x and y and x > 0 and y > 0) for _, pts in series
+                  if any(x and y and x > 0 and y > 0 for x, y in pts)), None)
+    if guide and first:
+        x0, y0 = first[0]
+        plots.append(f"{x0 * y0:.6g}/x with lines dt 2 lc rgb 'gray40' title \"∝ 1/t\"")
+    term = "pngcairo size 900,600 font ',11'"
+    script = f"""# regenerate: cd {os.path.dirname(os.path.abspath(png))} && gnuplot {os.path.basename(base)}.gp
+set terminal {term}
+set output '{os.path.basename(png)}'
+set title "{title}" noenhanced
+set logscale xy
+set xlabel '{xlabel}'
+set ylabel '{ylabel}'
+set grid xtics ytics mxtics mytics
+set key outside right top noenhanced
+plot {", ".join(plots) if plots else "1/0 notitle"}
+"""
+    with open(base + ".gp", "w") as f:
+        f.write(script)
+    r = subprocess.run(["gnuplot", os.path.basename(base) + ".gp"], cwd=os.path.dirname(os.path.abspath(png)) or ".",
+                       capture_output=True, text=True)
+    if r.returncode != 0 and "pngcairo" in r.stderr:  # gnuplot without cairo: the libgd terminal
+        with open(base + ".gp", "w") as f:
+            f.write(script.replace(term, "png size 900,600"))
+        r = subprocess.run(["gnuplot", os.path.basename(base) + ".gp"],
+                           cwd=os.path.dirname(os.path.abspath(png)) or ".", capture_output=True, text=True)
+    if r.returncode != 0 or not os.path.exists(png):
+        sys.exit(f"report.py: gnuplot failed for {png}: {r.stderr.strip()}")
+
+
+def fmt(x, spec):
+    return "–" if x is None else format(x, spec)
+
+
+# ----------------------------------------------------------------------------------------- convergence
+
+def ok_rows(rows):
+    return [r for r in rows if r["status"] == "ok" and fnum(r["rel_mse"]) and fnum(r["render_seconds"])]
+
+
+def efficiency(r):
+    return 1.0 / (float(r["rel_mse"]) * float(r["render_seconds"]))
+
+
+def cmd_convergence(args):
+    path, out = args[0], args[1]
+    plots = "--no-plots" not in args
+    rows = read_rows(path)
+    good = ok_rows(rows)
+    scenes = list(dict.fromkeys(r["scene"] for r in rows))
+    modes = list(dict.fromkeys(r["mode"] for r in rows))
+    budgets = sorted({float(r["budget_s"]) for r in rows})
+    md = []
+    md.append("<!-- generated by bench/convergence.sh from convergence.csv; do not edit by hand -->")
+    md.append("Efficiency `1/(relMSE·t)` of each mode relative to `--mode pt` at the same wall-time budget "
+              "(t = the renderer's `render_seconds`, so kernel build and scene load are not counted; "
+              "> 1 means the mode buys more accuracy per second than the path tracer). "
+              "relMSE and mean bias are at the largest budget.")
+    md.append("")
+    head = "| scene | mode | " + " | ".join(f"{b:g} s" for b in budgets) + " | relMSE | mean bias | work done |"
+    for scene in scenes:
+        srows = [r for r in good if r["scene"] == scene]
+        if not srows:
+            md.append(f"*{scene}: no successful runs*\n")
+            continue
+        any_row = srows[0]
+        md.append(f"**{scene}** ({any_row['triangles']} triangles, {any_row['width']}×{any_row['height']}, "
+                  f"reference {any_row['reference_spp']} spp)")
+        md.append("")
+        md.append(head)
+        md.append("|---|---|" + "---|" * len(budgets) + "---|---|---|")
+        pt_eff = {float(r["budget_s"]): efficiency(r) for r in srows if r["mode"] == "pt"}
+        for mode in modes:
+            mrows = {float(r["budget_s"]): r for r in srows if r["mode"] == mode}
+            failed = [r for r in rows if r["scene"] == scene and r["mode"] == mode and r["status"] != "ok"]
+            if not mrows:
+                reason = failed[0]["status"] if failed else "not run"
+                md.append(f"| {scene} | {mode} | " + " | ".join("–" for _ in budgets) + f" | – | – | {reason} |")
+                continue
+            cells = []
+            for b in budgets:
+                r = mrows.get(b)
+                cells.append(fmt(efficiency(r) / pt_eff[b], ".2f") if r and b in pt_eff else "–")
+            last = mrows[max(mrows)]
+            work = f"{last['spp'] or 0} spp" + (f" + {last['iterations']} it" if last["iterations"] not in ("", "0") else "")
+            md.append(f"| {scene} | {mode} | " + " | ".join(cells) +
+                      f" | {fmt(fnum(last['rel_mse']), '.4g')} | {fmt(fnum(last['mean_bias']), '+.4f')} | {work} |")
+        top = max(float(r["budget_s"]) for r in srows)
+        at_top = [r for r in srows if float(r["budget_s"]) == top]
+        if top in pt_eff and at_top:
+            best = max(at_top, key=efficiency)
+            md.append("")
+            md.append(f"Most efficient at {top:g} s on {scene}: `{best['mode']}` "
+                      f"({efficiency(best) / pt_eff[top]:.2f}× PT).")
+        # The reference's own noise: a PT image of n spp against a reference of N spp measures about
+        # c (1/n + 1/N), so the reference's share of every relMSE is about relMSE_PT * n / (n + N).
+        floors = [float(r["rel_mse"]) * float(r["spp"]) / (float(r["spp"]) + float(r["reference_spp"]))
+                  for r in srows if r["mode"] == "pt" and fnum(r["spp"]) and fnum(r["reference_spp"])]
+        if floors:
+            md.append("")
+            md.append(f"Reference noise floor (the reference's own share of relMSE, from the PT rows as relMSE·n/(n + N) "
+                      f"for n spp against the reference's N): "
+                      f"≈ {sorted(floors)[len(floors) // 2]:.2g}; relMSE values near it are limited by the reference.")
+        md.append("")
+        if plots:
+            series = []
+            for mode in modes:
+                pts = [(float(r["render_seconds"]), float(r["rel_mse"])) for r in srows if r["mode"] == mode]
+                series.append((mode, pts))
+            png = os.path.join(out, f"convergence-{scene}.png")
+            loglog_plot(png, f"{scene}: relMSE vs render time", series)
+            md.append(f"![relMSE vs time, {scene}](convergence-{scene}.png)")
+            md.append("")
+    failed = [r for r in rows if r["status"] != "ok"]
+    if failed:
+        md.append(f"{len(failed)} run(s) did not finish: " +
+                  ", ".join(f"{r['scene']}/{r['mode']}@{r['budget_s']}s ({r['status']})" for r in failed[:12]))
+        md.append("")
+    with open(os.path.join(out, "convergence.md"), "w") as f:
+        f.write("\n".join(md))
+
+
+# ----------------------------------------------------------------------------------------- knobs
+
+def cmd_knobs(args):
+    path, out = args[0], args[1]
+    plots = "--no-plots" not in args
+    rows = read_rows(path)
+    good = ok_rows(rows)
+    knobs = list(dict.fromkeys(r["knob"] for r in rows))
+    budgets = sorted({float(r["budget_s"]) for r in rows})
+    md = ["<!-- generated by bench/knobs.sh from knobs.csv; do not edit by hand -->"]
+    for knob in knobs:
+        krows = [r for r in good if r["knob"] == knob]
+        values = list(dict.fromkeys(r["value"] for r in rows if r["knob"] == knob))
+        any_row = krows[0] if krows else None
+        where = f" ({any_row['width']}×{any_row['height']}, reference {any_row['reference_spp']} spp)" if any_row else ""
+        md.append(f"**`{knob}`**{where}: relMSE at each wall-time budget; efficiency `1/(relMSE·t)` at the "
+                  f"largest budget relative to the renderer's default (the row marked *default*).")
+        md.append("")
+        md.append(f"| {knob} | patches | bins | " + " | ".join(f"relMSE {b:g} s" for b in budgets) +
+                  " | mean bias | efficiency vs default |")
+        md.append("|---|---|---|" + "---|" * len(budgets) + "---|---|")
+        top = max(budgets) if budgets else None
+        default = [r for r in krows if r["value"] == "default" and float(r["budget_s"]) == top]
+        base = efficiency(default[0]) if default else None
+        best = None
+        for v in values:
+            vrows = {float(r["budget_s"]): r for r in krows if r["value"] == v}
+            if not vrows:
+                status = next((r["status"] for r in rows if r["knob"] == knob and r["value"] == v), "not run")
+                md.append(f"| {v} | – | – | " + " | ".join("–" for _ in budgets) + f" | – | {status} |")
+                continue
+            last = vrows[max(vrows)]
+            rel = efficiency(last) / base if base and top in vrows else None
+            if rel is not None and (best is None or rel > best[1]):
+                best = (v, rel)
+            md.append(f"| {'*default*' if v == 'default' else v} | {last['patches']} | {last['bins']} | " +
+                      " | ".join(fmt(fnum(vrows[b]["rel_mse"]) if b in vrows else None, ".4g") for b in budgets) +
+                      f" | {fmt(fnum(last['mean_bias']), '+.4f')} | {fmt(rel, '.2f')} |")
+        if best:
+            md.append("")
+            md.append(f"Most efficient at {top:g} s: `{knob} {best[0]}` ({best[1]:.2f}× the default).")
+        md.append("")
+        if plots and krows:
+            series = [(f"{knob} {v}", [(float(r["render_seconds"]), float(r["rel_mse"]))
+                                       for r in krows if r["value"] == v]) for v in values]
+            name = knob.lstrip("-")
+            loglog_plot(os.path.join(out, f"knobs-{name}.png"), f"cornell-glossy, combined product: {knob}", series)
+            md.append(f"![relMSE vs time for {knob}](knobs-{name}.png)")
+            md.append("")
+    with open(os.path.join(out, "knobs.md"), "w") as f:
+        f.write("\n".join(md))
+
+
+# ----------------------------------------------------------------------------------------- scaling
+
+def cmd_scaling(args):
+    path, out = args[0], args[1]
+    rows = read_rows(path)
+    md = ["<!-- generated by bench/scaling.sh from scaling.csv; do not edit by hand -->",
+          "Time per PT sample is for the whole image (ms per spp); time per RB iteration is `--mode rb`'s "
+          "`ms_per_iteration` (binning, exchange, gather and the eye estimate). Peak host memory is "
+          "`/usr/bin/time -v`'s maximum resident set of the whole process (on the PoCL CPU device the "
+          "device buffers live in host memory, so it includes them).",
+          ""]
+    has_dev = any(fnum(r["device_mib"]) for r in rows)
+    for series in dict.fromkeys(r["series"] for r in rows):
+        srows = [r for r in rows if r["series"] == series]
+        md.append(f"**{series}**")
+        md.append("")
+        md.append("| scene | mode | triangles | patches | bins | pixels | ms / PT sample | ms / RB iteration | "
+                  "fragments / iteration | peak host MiB |" + (" device MiB |" if has_dev else ""))
+        md.append("|---|---|---|---|---|---|---|---|---|---|" + ("---|" if has_dev else ""))
+        for r in srows:
+            if r["status"] != "ok":
+                md.append(f"| {r['scene']} | {r['mode']} {r['flags']} | {r['triangles'] or '–'} | {r['patches'] or '–'} | "
+                          f"{r['bins'] or '–'} | {r['width']}×{r['height']} | {r['status']} | | | |" +
+                          (" |" if has_dev else ""))
+                continue
+            pixels = f"{r['width']}×{r['height']}"
+            ms_s = fnum(r["ms_per_sample"]) if r["mode"] != "rb" else None
+            ms_i = fnum(r["ms_per_iteration"]) if r["mode"] == "rb" else None
+            frag = fnum(r["fragments_per_iteration"]) if r["mode"] == "rb" else None
+            md.append(f"| {r['scene']} | {r['mode']} | {r['triangles']} | {r['patches']} | {r['bins'] or '–'} | {pixels} | "
+                      f"{fmt(ms_s, '.3g')} | {fmt(ms_i, '.3g')} | {fmt(frag, '.3g')} | {fmt(fnum(r['max_rss_mib']), '.0f')} |" +
+                      (f" {fmt(fnum(r['device_mib']), '.0f')} |" if has_dev else ""))
+        md.append("")
+    if not has_dev:
+        md.append("Device memory: the renderer's `--stats` does not report it yet (column left out).")
+        md.append("")
+    with open(os.path.join(out, "scaling.md"), "w") as f:
+        f.write("\n".join(md))
+
+
+# ----------------------------------------------------------------------------------------- check
+
+def cmd_check(args):
+    path, study = args[0], args[1]
+    min_rows = int(args[args.index("--min-rows") + 1]) if "--min-rows" in args else 1
+    errors = []
+    with open(path, newline="") as f:
+        reader = csv.reader(f)
+        header = next(reader, None)
+        if header != COLUMNS[study]:
+            errors.append(f"header {header} != {COLUMNS[study]}")
+        rows = list(reader)
+    if len(rows) < min_rows:
+        errors.append(f"{len(rows)} rows, expected at least {min_rows}")
+    ok = 0
+    for n, r in enumerate(rows, 2):
+        if header and len(r) != len(header):
+            errors.append(f"line {n}: {len(r)} fields, expected {len(header)}")
+            continue
+        d = dict(zip(COLUMNS[study], r))
+        for k, v in d.items():
+            if k in NUMERIC and v != "" and fnum(v) is None:
+                errors.append(f"line {n}: {k}={v!r} is not a finite number")
+        if d.get("status") == "ok":
+            ok += 1
+            need = ["render_seconds"] + (["rel_mse", "rmse", "mean_bias"] if study != "scaling" else [])
+            for k in need:
+                if fnum(d.get(k)) is None:
+                    errors.append(f"line {n}: status ok but {k} is empty")
+    if ok == 0:
+        errors.append("no run finished with status ok")
+    for e in errors[:20]:
+        print(f"{path}: {e}", file=sys.stderr)
+    if errors:
+        sys.exit(1)
+    print(f"{path}: {len(rows)} rows, {ok} ok")
+
+
+def main():
+    if len(sys.argv) < 3:
+        sys.exit(__doc__)
+    cmd, args = sys.argv[1], sys.argv[2:]
+    if cmd in ("convergence", "knobs", "scaling"):
+        os.makedirs(args[1], exist_ok=True)
+    {"append": cmd_append, "convergence": cmd_convergence, "knobs": cmd_knobs, "scaling": cmd_scaling,
+     "check": cmd_check}[cmd](args)
+
+
+if __name__ == "__main__":
+    main()

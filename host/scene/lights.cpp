@@ -1,0 +1,76 @@
+#include "scene/lights.h"
+
+#include <cmath>
+
+namespace bp {
+namespace {
+
+float mean(const glm::vec3& v) { return (v.x + v.y + v.z) / 3.0f; }
+
+void store3(float* out, const glm::vec3& v) {
+  out[0] = v.x;
+  out[1] = v.y;
+  out[2] = v.z;
+}
+
+}  // namespace
+
+LightList build_light_list(const Scene& scene) {
+  LightList out;
+  std::vector<double> power;
+  // Emitted power per unit area of each material: pi Le per side.
+  std::vector<double> exitance(scene.materials.size(), 0.0);
+  for (std::size_t m = 0; m < scene.materials.size(); ++m) {
+    const SceneMaterial& mat = scene.materials[m];
+    exitance[m] = M_PI * double(mean(mat.emission)) * (mat.double_sided ? 2.0 : 1.0);
+  }
+  for (const SceneTriangle& t : scene.triangles) {
+    if (!(exitance[t.material] > 0.0)) continue;
+    const glm::vec3 e1 = t.p[1] - t.p[0], e2 = t.p[2] - t.p[0], c = glm::cross(e1, e2);
+    Light l{};
+    l.type = BP_LIGHT_TRIANGLE;
+    store3(l.position, t.p[0]);
+    store3(l.edge1, e1);
+    store3(l.edge2, e2);
+    store3(l.axis, glm::normalize(c));
+    l.area = 0.5f * glm::length(c);
+    l.material = t.material;
+    out.lights.push_back(l);
+    power.push_back(exitance[t.material] * double(l.area));
+  }
+  for (const ScenePunctualLight& p : scene.lights) {
+    Light l{};
+    store3(l.position, p.position);
+    store3(l.axis, p.direction);
+    store3(l.intensity, p.intensity);
+    l.cos_inner = std::cos(p.inner_cone);
+    l.cos_outer = std::cos(p.outer_cone);
+    double solid_angle = 4.0 * M_PI;
+    if (p.kind == ScenePunctualLight::Kind::spot) {
+      l.type = BP_LIGHT_SPOT;
+      // the cone out to the middle of the falloff: a selection heuristic, not part of the estimate
+      solid_angle = 2.0 * M_PI * (1.0 - 0.5 * (double(l.cos_inner) + double(l.cos_outer)));
+    } else {
+      l.type = BP_LIGHT_POINT;
+    }
+    const double light_power = solid_angle * double(mean(p.intensity));
+    if (!(light_power > 0.0)) continue;  // dark: never chosen
+    out.lights.push_back(l);
+    power.push_back(light_power);
+  }
+  for (double w : power) out.total_power += w;
+  if (!(out.total_power > 0.0) || !std::isfinite(out.total_power)) return LightList{};
+  double running = 0.0;
+  for (std::size_t i = 0; i < out.lights.size(); ++i) {
+    out.lights[i].select_probability = float(power[i] / out.total_power);
+    running += power[i];
+    out.cdf.push_back(i + 1 == out.lights.size() ? 1.0f : float(running / out.total_power));
+  }
+  // P(select triangle) / area = exitance / total power: the same for every triangle of a material.
+  out.material_pdf_area.resize(scene.materials.size());
+  for (std::size_t m = 0; m < scene.materials.size(); ++m)
+    out.material_pdf_area[m] = float(exitance[m] / out.total_power);
+  return out;
+}
+
+}  // namespace bp

@@ -1,0 +1,20 @@
+// The lights that light sampling chooses from (kernels/shared/lights.h), selected by power.
+#pragma once
+#include "kernels/shared/lights.h"
+#include "scene/scene.h"
+#include <vector>
+
+namespace bp {
+
+struct LightList {
+  std::vector<Light> lights;              // emissive triangles (scene order), then punctual lights
+  std::vector<float> cdf;                 // cdf[i] = P(select one of lights 0..i); the last is 1
+  std::vector<float> material_pdf_area;   // per scene material: P(select) / area of its emitters, m^-2
+  double total_power = 0.0;               // W, summed over the colour channels' mean
+};
+
+// Power of each light (Le pi A per emitting side; 4 pi I for a point; the cone's solid angle times
+// I for a spot), and the list with its selection cdf. Empty when nothing emits.
+LightList build_light_list(const Scene& scene);
+
+}  // namespace bp

@@ -1,0 +1,96 @@
+// Light sampling (DESIGN.md §3, "Light sampling as a strategy"): the scene's lights -- emissive
+// triangles and KHR_lights_punctual point and spot lights -- chosen by power, and the density of
+// the direction a light sample takes, in the uv measure (eq. 7) like every other density.
+#ifndef BP_SHARED_LIGHTS_H
+#define BP_SHARED_LIGHTS_H
+#include "shared/compat.h"
+#include "shared/types.h"
+
+#define BP_LIGHT_TRIANGLE 0u
+#define BP_LIGHT_POINT 1u
+#define BP_LIGHT_SPOT 2u
+
+// One light. host/scene/lights.cpp builds the list and the selection cdf; shared_types_check.cpp
+// checks the layout.
+typedef struct {
+  float position[3];     // triangle: vertex p0; point, spot: the light's position
+  bp_u32 type;           // BP_LIGHT_*
+  float edge1[3];        // triangle: p1 - p0
+  bp_u32 material;       // triangle: its material (emission, sides)
+  float edge2[3];        // triangle: p2 - p0
+  float area;            // triangle: area, m^2
+  float axis[3];         // triangle: unit front normal; spot: unit direction of the cone
+  float select_probability;
+  float intensity[3];    // point, spot: radiant intensity I per colour, W sr^-1 (glTF: candela)
+  float cos_outer;       // spot: cos of the outer cone angle (no light beyond)
+  float cos_inner;       // spot: cos of the inner cone angle (full intensity within)
+  float pad0, pad1, pad2;
+} Light;
+
+// A light sample as seen from a shading point x.
+typedef struct {
+  float3 wi;             // unit direction from x towards the light
+  float distance;        // from x to the sampled point (the shadow ray's length)
+  float3 radiance_over_pdf;  // incident radiance over the solid-angle density of wi: the estimator's L/p
+  float pdf_uv;          // density of wi in the uv measure (2 pi p_solid); unused for a delta light
+  int is_delta;          // point and spot lights: only light sampling reaches them
+} LightSample;
+
+// Index of the light whose cdf interval holds u (cdf[i] = sum of select probabilities up to i).
+BP_FN bp_u32 light_pick(BP_GLOBAL const float* cdf, bp_u32 count, float u) {
+  bp_u32 lo = 0u, hi = count - 1u;
+  while (lo < hi) {
+    bp_u32 mid = (lo + hi) / 2u;
+    if (u < cdf[mid]) hi = mid; else lo = mid + 1u;
+  }
+  return lo;
+}
+
+// Density in the uv measure of reaching a point of an emissive triangle from distance d when its
+// surface is crossed at cosine cos_light: p_uv = 2 pi p_area d^2 / cos_light (area to solid angle,
+// then eq. 7). p_area = select probability / area, one number per emissive material
+// (Material.light_pdf_area). Capped so the weights of DESIGN.md §3 stay finite at grazing angles.
+BP_FN float light_pdf_uv_area(float light_pdf_area, float distance, float cos_light) {
+  if (light_pdf_area <= 0.0f || cos_light <= 0.0f) return 0.0f;
+  return fmin(BP_TWO_PI * light_pdf_area * distance * distance / cos_light, 1e30f);
+}
+
+// glTF spot cone (KHR_lights_punctual): smooth in cos between the outer and inner angles, squared.
+BP_FN float spot_attenuation(float cos_axis, float cos_outer, float cos_inner) {
+  float t = clamp((cos_axis - cos_outer) / fmax(cos_inner - cos_outer, 1e-3f), 0.0f, 1.0f);
+  return t * t;
+}
+
+// Samples a light by power (u_pick) and a point on it (u1, u2) as seen from x.
+BP_FN LightSample light_sample(BP_GLOBAL const Light* lights, BP_GLOBAL const float* cdf, bp_u32 count,
+                               BP_GLOBAL const Material* materials, float3 x, float u_pick, float u1, float u2) {
+  LightSample s;
+  BP_GLOBAL const Light* l = &lights[light_pick(cdf, count, u_pick)];
+  float3 target = bp_load3(l->position);
+  if (l->type == BP_LIGHT_TRIANGLE) {
+    float root = sqrt(u1);  // uniform on the triangle: barycentrics (1 - sqrt u1, sqrt u1 (1 - u2), sqrt u1 u2)
+    target += bp_load3(l->edge1) * (root * (1.0f - u2)) + bp_load3(l->edge2) * (root * u2);
+  }
+  float3 to_light = target - x;
+  s.distance = length(to_light);
+  s.wi = to_light / s.distance;
+  s.is_delta = l->type != BP_LIGHT_TRIANGLE;
+  s.radiance_over_pdf = make_float3(0.0f, 0.0f, 0.0f);
+  s.pdf_uv = 0.0f;
+  if (!(s.distance > 0.0f)) return s;
+  if (l->type == BP_LIGHT_TRIANGLE) {
+    BP_GLOBAL const Material* m = &materials[l->material];
+    float cos_light = -dot(bp_load3(l->axis), s.wi);  // > 0: x sees the front
+    if (m->flags & BP_MATERIAL_DOUBLE_SIDED) cos_light = fabs(cos_light);
+    s.pdf_uv = light_pdf_uv_area(m->light_pdf_area, s.distance, cos_light);
+    if (s.pdf_uv > 0.0f) s.radiance_over_pdf = bp_load3(m->emission) * (BP_TWO_PI / s.pdf_uv);  // L / p_solid
+  } else {
+    // E = I / d^2 from the light's direction: L / p_solid is I / (d^2 P(select)).
+    float falloff = 1.0f;
+    if (l->type == BP_LIGHT_SPOT) falloff = spot_attenuation(dot(bp_load3(l->axis), -s.wi), l->cos_outer, l->cos_inner);
+    s.radiance_over_pdf = bp_load3(l->intensity) * (falloff / (s.distance * s.distance * l->select_probability));
+  }
+  return s;
+}
+
+#endif  // BP_SHARED_LIGHTS_H
