@@ -392,7 +392,9 @@ __kernel void rb_eye(__global const EyeHit* hits, __global const BundleElement* 
   float3 weighted;
   if (it.weight_mode == BP_WEIGHTS_PRODUCT) {
     // chain 0 already carries prod beta of the earlier vertices; the eye vertex adds its own.
-    weighted = bsdf.emission + reflected0 * vertex_beta(&bsdf, n, wi, wo, it.weight_ratio);
+    // With light sampling the eye vertex's emission, like its direct light, is PT's alone.
+    weighted = (it.light_count > 0u ? make_float3(0.0f, 0.0f, 0.0f) : bsdf.emission) +
+               reflected0 * vertex_beta(&bsdf, n, wi, wo, it.weight_ratio);
   } else if (it.weight_mode == BP_WEIGHTS_PAPER) {
     float log_pstar = paper_log_pstar_step(&bsdf, n, wi, wo, e0.w);  // (10) at the eye vertex
     weighted = bsdf.emission * paper_rb_weight(0.0f, it.weight_ratio) +  // the emitter seen directly: P = 1

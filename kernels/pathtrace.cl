@@ -78,9 +78,12 @@ static PathRadiance trace_path(const SceneRefs* scene, const PathTraceParams* pa
     // Emission picked up after this prefix, weighted with w_PT of the prefix (DESIGN.md §3); with
     // light sampling, as the PT BSDF technique of the last segment unless the eye sees it.
     float3 emitted = throughput * bsdf.emission;
-    if (!light_sampling || depth == 0u) {
+    if (!light_sampling) {
       radiance.raw += emitted;
       radiance.weighted += emitted * pt_emission_weight(&pdf, params->weight_mode, params->weight_ratio);
+    } else if (depth == 0u) {  // the emitter seen directly: PT's alone with light sampling, as its direct light
+      radiance.raw += emitted;
+      radiance.weighted += emitted;
     } else if (emitted.x + emitted.y + emitted.z > 0.0f) {
       float pdf_light = light_pdf_uv_area(scene->materials[surface.material].light_pdf_area, hit.t,
                                           dot(surface.normal, wo));

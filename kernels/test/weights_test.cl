@@ -42,3 +42,50 @@ __kernel void path_weights(__global const Material* materials, __global const fl
   out[2 * path] = w_pt;
   out[2 * path + 1] = w_rb;
 }
+
+// With light sampling (DESIGN.md §3): the four techniques of the last segment. The path's vertices
+// are as above, the last one (k = vertices - 1) connecting to the light; pdf_light[path] is the
+// light-sampling density of that connection (uv), is_delta[path] marks a point or spot light.
+// out[4 * path ..] = w_PT,bsdf, w_PT,light (as pathtrace.cl computes them), w_RB,bundle, w_RB,light
+// (as bundle.cl does: the last vertex's factor in rb_tile_resolve / rb_light_sample, then beta at
+// every reflection towards the eye, none of it at the eye vertex itself).
+__kernel void last_segment_path_weights(__global const Material* materials, __global const float* geometry,
+                                        __global const float* pdf_light, __global const uint* is_delta,
+                                        const uint vertices, const uint paths, const float ratio,
+                                        __global float* out) {
+  uint path = (uint)get_global_id(0);
+  if (path >= paths) return;
+  __global const Material* m = &materials[path * vertices];
+  __global const float* g = &geometry[path * vertices * 9];
+  const uint last = vertices - 1u;
+  Bsdf bl = bsdf_from_material(&m[last]);
+  float3 nl = bp_load3(g + 9 * last), wol = bp_load3(g + 9 * last + 3), wil = bp_load3(g + 9 * last + 6);
+  float pdf_bsdf = bl.continuation * bsdf_pdf_uv(&bl, nl, wil, wol);
+
+  // PT: beta of the vertices before the last along the walk from the eye, none for the eye vertex.
+  PathPdf pdf = path_pdf_start();
+  for (uint k = 0; k < last; ++k) {
+    Bsdf b = bsdf_from_material(&m[k]);
+    float3 n = bp_load3(g + 9 * k), wo = bp_load3(g + 9 * k + 3), wi = bp_load3(g + 9 * k + 6);
+    path_pdf_multiply_beta(&pdf, vertex_beta(&b, n, wi, wo, ratio));
+  }
+  float prefix = last == 0u ? 0.0f : exp(pdf.log_beta_product);
+  LastSegmentWeights pt = last_segment_weights(prefix, ratio, pdf_bsdf, pdf_light[path], (int)is_delta[path]);
+
+  // RB: the last vertex's factor, then beta at each reflection towards the eye (rb_outgoing), and at
+  // the eye vertex (rb_eye), which takes no direct light at all.
+  LastSegmentWeights rb = last_segment_weights(1.0f, ratio, pdf_bsdf, pdf_light[path], (int)is_delta[path]);
+  float rb_bundle = rb.rb_bundle, rb_light = rb.rb_light;
+  for (int k = (int)last - 1; k >= 0; --k) {
+    Bsdf b = bsdf_from_material(&m[k]);
+    float3 n = bp_load3(g + 9 * k), wo = bp_load3(g + 9 * k + 3), wi = bp_load3(g + 9 * k + 6);
+    float beta = vertex_beta(&b, n, wi, wo, ratio);
+    rb_bundle *= beta;
+    rb_light *= beta;
+  }
+  if (last == 0u) rb_bundle = rb_light = 0.0f;
+  out[4 * path + 0] = pt.pt_bsdf;
+  out[4 * path + 1] = pt.pt_light;
+  out[4 * path + 2] = rb_bundle;
+  out[4 * path + 3] = rb_light;
+}

@@ -105,6 +105,70 @@ TEST(CombinationWeights, PtAndRbWeightsOfEveryPathSumToOne) {
     }
 }
 
+// Light-sampling densities of the last segment: tiny (a far, small light), ordinary, huge (a light
+// seen at a grazing angle, capped at 1e30 by light_pdf_uv_area), zero (the light cannot be sampled
+// from here), and delta lights (point and spot).
+struct LightConnections {
+  std::vector<float> pdf;
+  std::vector<cl_uint> is_delta;
+};
+LightConnections make_light_connections(std::uint32_t count, std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(0, 1);
+  LightConnections c;
+  for (std::uint32_t i = 0; i < count; ++i) {
+    float pick = u(rng);
+    c.is_delta.push_back(pick < 0.2f ? 1u : 0u);
+    c.pdf.push_back(pick < 0.3f ? 0.0f : pick < 0.4f ? 1e30f : std::pow(10.0f, -6.0f + 14.0f * u(rng)));
+  }
+  return c;
+}
+
+// DESIGN.md §3, light sampling: for random paths of every length (1 = the eye vertex's direct light,
+// which PT owns alone), area and delta lights, the four techniques' weights computed the way the PT
+// kernel and the RB kernel compute them sum to one, each finite and in [0, 1].
+TEST(CombinationWeights, FourTechniquesOfTheLastSegmentSumToOne) {
+  const std::uint32_t count = 2000;
+  const DeviceContext& device = test_device();
+  BuiltProgram program = build_program(device, "test/weights_test.cl");
+  cl::Kernel kernel(program.program, "last_segment_path_weights");
+  for (std::uint32_t vertices : {1u, 2u, 3u, 8u, 40u, 300u})
+    for (float ratio : {1e-4f, 0.0625f, 1.0f, 16.0f, 1e4f}) {
+      Paths paths = make_paths(count, vertices, 29u + vertices);
+      LightConnections lights = make_light_connections(count, 31u + vertices);
+      cl::Buffer materials = upload_buffer(device, "materials", paths.materials);
+      cl::Buffer geometry = upload_buffer(device, "geometry", paths.geometry);
+      cl::Buffer pdf = upload_buffer(device, "light pdfs", lights.pdf);
+      cl::Buffer delta = upload_buffer(device, "delta flags", lights.is_delta);
+      cl::Buffer out = make_buffer(device, "weights", CL_MEM_WRITE_ONLY, 4 * count * sizeof(float));
+      set_args(kernel, materials, geometry, pdf, delta, vertices, count, ratio, out);
+      Launcher launcher(device);
+      launcher.launch("last_segment_path_weights", kernel, count, 64);
+      launcher.finish();
+      std::vector<float> w(4 * count);
+      device.queue.enqueueReadBuffer(out, CL_TRUE, 0, w.size() * sizeof(float), w.data());
+      const float tolerance = 2e-6f * float(vertices + 4);
+      int bad = 0;
+      for (std::uint32_t i = 0; i < count && bad < 5; ++i) {
+        float sum = 0.0f;
+        bool ok = true;
+        for (int k = 0; k < 4; ++k) {
+          ok = ok && std::isfinite(w[4 * i + k]) && w[4 * i + k] >= 0.0f && w[4 * i + k] <= 1.0f;
+          sum += w[4 * i + k];
+        }
+        if (vertices == 1) ok = ok && w[4 * i + 2] == 0.0f && w[4 * i + 3] == 0.0f;  // PT alone
+        if (lights.is_delta[i]) ok = ok && w[4 * i] == 0.0f && w[4 * i + 2] == 0.0f;  // only light samples
+        if (!ok || std::fabs(sum - 1.0f) > tolerance) {
+          ++bad;
+          ADD_FAILURE() << vertices << " vertices, N2/N1 " << ratio << ", p_L " << lights.pdf[i]
+                        << (lights.is_delta[i] ? " (delta)" : "") << ": PT bsdf " << w[4 * i] << " + PT light "
+                        << w[4 * i + 1] << " + RB bundle " << w[4 * i + 2] << " + RB light " << w[4 * i + 3] << " = "
+                        << sum;
+        }
+      }
+    }
+}
+
 TEST(CombinationWeights, DirectlyVisibleEmitterBelongsToRbUnderProductWeights) {
   // The empty product: a path with no reflection has w_RB = 1, w_PT = 0 (DESIGN.md §3).
   PathPdf p = path_pdf_start();

@@ -117,6 +117,35 @@ TEST(GltfLoader, DegenerateTrianglesDroppedWithOneWarning) {
   EXPECT_TRUE(has_warning(s, "dropped 1 degenerate"));
 }
 
+// KHR_lights_punctual: candela become W/sr at 683 lm/W; the node places and turns the light.
+TEST(GltfLoader, PunctualLights) {
+  const Scene s = load_gltf(test_file("good/lights.gltf"));
+  ASSERT_EQ(s.lights.size(), 2u);
+  const ScenePunctualLight& spot = s.lights[0];
+  EXPECT_EQ(spot.kind, ScenePunctualLight::Kind::spot);
+  expect_vec3_near(spot.position, {0, 2, 0});
+  expect_vec3_near(spot.direction, {0, -1, 0});
+  expect_vec3_near(spot.intensity, {1.0f, 0.5f, 0.25f});
+  EXPECT_FLOAT_EQ(spot.inner_cone, 0.25f);
+  EXPECT_FLOAT_EQ(spot.outer_cone, 0.5f);
+  EXPECT_EQ(s.lights[1].kind, ScenePunctualLight::Kind::point);
+  expect_vec3_near(s.lights[1].intensity, glm::vec3(2.0f));
+  EXPECT_TRUE(has_warning(s, "is directional"));
+  EXPECT_FALSE(has_warning(s, "no emitter"));  // punctual lights light the scene
+}
+
+// Exported by Blender's glTF exporter (scripts/make_blender_point_light_scene.py): one point light,
+// 100 W in Blender, and nothing the loader has to warn about.
+TEST(GltfLoader, BlenderExportWithAPointLight) {
+  const Scene s = load_gltf(test::scene_file("blender-point-light.gltf"));
+  ASSERT_EQ(s.lights.size(), 1u);
+  EXPECT_EQ(s.lights[0].kind, ScenePunctualLight::Kind::point);
+  EXPECT_NEAR(s.lights[0].intensity.x, 100.0 / (4.0 * M_PI), 0.01);  // W/sr of 100 W in every direction
+  expect_vec3_near(s.lights[0].position, {0.0f, 1.9f, 0.0f}, 1e-4f);
+  EXPECT_TRUE(s.camera.from_file);
+  EXPECT_TRUE(s.warnings.empty()) << s.warnings.front();
+}
+
 // ------------------------------------------------------------------ broken files
 
 struct BadCase {
@@ -171,6 +200,10 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"points-only.gltf", "no triangles"},
         BadCase{"sparse-index-range.gltf", "sparse index 3 is out of range"},
         BadCase{"sparse-not-increasing.gltf", "sparse indices are not strictly increasing"},
+        BadCase{"light-index.gltf", "refers to KHR_lights_punctual light 3"},
+        BadCase{"light-cone.gltf", "KHR_lights_punctual light 0 has cone angles"},
+        BadCase{"light-intensity.gltf", "KHR_lights_punctual light 0 has intensity"},
+        BadCase{"light-type.gltf", "KHR_lights_punctual light 0 has unknown type"},
         BadCase{"uri-parent.gltf", "buffer 0 uri"},
         BadCase{"uri-absolute.gltf", "buffer 0 uri"},
         BadCase{"uri-encoded-parent.gltf", "buffer 0 uri"},

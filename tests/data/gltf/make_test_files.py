@@ -92,7 +92,30 @@ def quad_mesh_file():
     return base([(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0)], (0, 1, 2, 0, 2, 3))
 
 
+def with_lights(lights, node_light):
+    """A mutation: KHR_lights_punctual with `lights`, node 0 carrying light `node_light`."""
+    def mutate(doc):
+        doc.setdefault("extensionsUsed", []).append("KHR_lights_punctual")
+        doc.setdefault("extensions", {})["KHR_lights_punctual"] = {"lights": lights}
+        doc["nodes"].append({"extensions": {"KHR_lights_punctual": {"light": node_light}}})
+        doc["scenes"][0]["nodes"].append(len(doc["nodes"]) - 1)
+    return mutate
+
+
 def good_files():
+    # KHR_lights_punctual: a spot light 2 m up, pointing down (the node's -z turned to -y), a point
+    # light, and a directional light that is ignored with a warning.
+    doc, blob = base()
+    with_lights([{"type": "spot", "color": [1.0, 0.5, 0.25], "intensity": 683.0,
+                  "spot": {"innerConeAngle": 0.25, "outerConeAngle": 0.5}},
+                 {"type": "point", "intensity": 1366.0},
+                 {"type": "directional"}], 0)(doc)
+    doc["nodes"][-1].update(translation=[0.0, 2.0, 0.0], rotation=[-0.7071068, 0.0, 0.0, 0.7071068])
+    for light in (1, 2):
+        doc["nodes"].append({"translation": [1.0, 1.0, 1.0], "extensions": {"KHR_lights_punctual": {"light": light}}})
+        doc["scenes"][0]["nodes"].append(len(doc["nodes"]) - 1)
+    write_json("good/lights.gltf", embed(doc, blob))
+
     # External .bin beside the .gltf.
     doc, blob = base()
     doc["buffers"][0]["uri"] = "external-bin.bin"
@@ -249,6 +272,13 @@ def bad_files():
     doc, blob = base()
     doc["buffers"][0]["uri"] = "missing.bin"
     write_json("bad/missing-bin.gltf", doc)
+
+    for name, light, node_light in [
+            ("light-index", {"type": "point"}, 3),
+            ("light-cone", {"type": "spot", "spot": {"innerConeAngle": 0.5, "outerConeAngle": 0.4}}, 0),
+            ("light-intensity", {"type": "point", "intensity": -2.0}, 0),
+            ("light-type", {"type": "area"}, 0)]:
+        bad(name, with_lights([light], node_light))
 
 
 if __name__ == "__main__":
