@@ -91,7 +91,8 @@ __kernel void rb_outgoing(__global const BundleElement* elements, __global const
       float4 direct = e_in[p * it.chains + it.direct_chain];  // already weighted per fragment
       reflected += transfer * make_float3(direct.x, direct.y, direct.z);
       Rng rng = rng_init(light_seed, p, iteration);
-      reflected += rb_light_sample(&elements[pe & ~BP_BACK_SIDE], n, &bsdf, wo, nodes, triangles, lights, light_cdf,
+      if (bsdf.continuation > 0.0f)  // a black patch reflects no light sample
+        reflected += rb_light_sample(&elements[pe & ~BP_BACK_SIDE], n, &bsdf, wo, nodes, triangles, lights, light_cdf,
                                    materials, &it, &rng, ray_epsilon);
       emitted = make_float3(0.0f, 0.0f, 0.0f);
     }

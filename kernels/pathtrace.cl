@@ -94,7 +94,7 @@ static PathRadiance trace_path(const SceneRefs* scene, const PathTraceParams* pa
     }
 
     float prefix_beta = last_segment_prefix_beta(params, &pdf, depth);
-    if (light_sampling)
+    if (light_sampling && bsdf.continuation > 0.0f)  // a black surface reflects no light sample
       add_light_sample(scene, params, &surface, &bsdf, wo, throughput, prefix_beta, rng, &radiance, rays);
 
     // Russian roulette on the material-only continuation probability s.

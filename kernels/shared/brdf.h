@@ -34,13 +34,19 @@ BP_FN Bsdf bsdf_from_material(BP_GLOBAL const Material* m) {
   return b;
 }
 
+// cos^n for cos in (0, 1] and n >= 0, as exp2(n log2(cos)). PoCL's pow() covers every special case
+// and made the Phong lobe the costliest part of both kernels; this is as precise as the float cos
+// it is given allows (an error dc moves cos^n by n dc / cos either way).
+BP_FN float pow_unit(float cos_angle, float n) { return exp2(n * log2(cos_angle)); }
+
 // f(wi, wo) in sr^-1: kd/pi + ks (n+2)/(2 pi) cos^n alpha, alpha between wi and the mirror of wo.
 BP_FN float3 bsdf_eval(const Bsdf* b, float3 n, float3 wi, float3 wo) {
   if (dot(n, wi) <= 0.0f || dot(n, wo) <= 0.0f) return make_float3(0.0f, 0.0f, 0.0f);
   float3 f = b->kd * BP_INV_PI;
   if (b->p_diffuse < 1.0f) {  // a specular lobe (pow is the costliest thing here: skip it for Lambert)
     float cos_alpha = dot(reflect_about(wo, n), wi);  // the lobe is zero beyond 90 degrees, also for n = 0
-    if (cos_alpha > 0.0f) f += b->ks * ((b->shininess + 2.0f) * (0.5f * BP_INV_PI) * pow(cos_alpha, b->shininess));
+    if (cos_alpha > 0.0f)
+      f += b->ks * ((b->shininess + 2.0f) * (0.5f * BP_INV_PI) * pow_unit(fmin(cos_alpha, 1.0f), b->shininess));
   }
   return f;
 }
@@ -50,7 +56,7 @@ BP_FN float pdf_uv_cosine(float cos_theta) { return cos_theta > 0.0f ? 2.0f * co
 
 // Phong lobe around the mirror direction: pdf_uv = (n+1) cos^n(alpha)   (DESIGN.md §2).
 BP_FN float pdf_uv_phong_lobe(float cos_alpha, float shininess) {
-  return cos_alpha > 0.0f ? (shininess + 1.0f) * pow(cos_alpha, shininess) : 0.0f;
+  return cos_alpha > 0.0f ? (shininess + 1.0f) * pow_unit(fmin(cos_alpha, 1.0f), shininess) : 0.0f;
 }
 
 // The PT density of wi given wo: the full lobe mixture, whichever lobe was sampled (DESIGN.md §2).

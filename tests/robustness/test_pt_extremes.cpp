@@ -17,6 +17,13 @@
 namespace bp::test {
 namespace {
 
+// These tests count rays: with light sampling off every ray is one vertex of a BSDF-sampled path,
+// so the furnace identity "radiance = Le x rays" and the path-length statistics hold exactly.
+// Light sampling in the furnace is tested in tests/kernel (PathTraceFurnace).
+RenderRun render_bsdf_sampled(const Scene& scene, int width, int height, std::uint64_t spp, std::uint32_t seed) {
+  return render_pt(scene, width, height, spp, seed, 65536, false);
+}
+
 // Every statistical check in this file is one test of a family of this size, so that the whole
 // file fails by chance with probability at most 0.01 (Šidák).
 // Shininess 3 + 2 + 2, depth 2 + 1, grazing 1, scale 4.
@@ -104,7 +111,7 @@ void expect_lambert_furnace(const RenderRun& run, double albedo, double le, std:
 TEST(PtExtremesShininess, LambertFurnaceIsExactForAnyShininess) {
   for (float n : {0.0f, 1e4f, 1e6f}) {
     Scene scene = make_closed_box(1.0f, emitting(glm::vec3(0.6f), glm::vec3(0.0f), n, 1.0f));
-    RenderRun run = render_pt(scene, 16, 16, 32, 11u);
+    RenderRun run = render_bsdf_sampled(scene, 16, 16, 32, 11u);
     expect_lambert_furnace(run, 0.6, 1.0, 32, "kd 0.6, shininess " + std::to_string(n));
   }
 }
@@ -153,7 +160,7 @@ TEST(PtExtremesShininess, SharpSpecularLobesKeepTheirAlbedo) {
   const float yfov = 0.02f;
   const double t0_max = std::tan(0.5 * yfov) * std::sqrt(2.0);  // image corner
   for (float n : {1e4f, 1e6f}) {
-    RenderRun run = render_pt(specular_slab(float(a), n, float(le), yfov), 16, 16, 64, 5u);
+    RenderRun run = render_bsdf_sampled(specular_slab(float(a), n, float(le), yfov), 16, 16, 64, 5u);
     const std::string what = "ks 0.5, shininess " + std::to_string(n);
     expect_finite(run, what);
     // Use the image-average |t0|^2 (a third of the corner's value for a square field of view).
@@ -170,7 +177,7 @@ TEST(PtExtremesShininess, SharpSpecularLobesKeepTheirAlbedo) {
 void expect_matches_reference(const Scene& scene, const std::string& what) {
   const int w = 8, h = 8;
   const std::uint64_t spp = 512;
-  RenderRun a = render_pt(scene, w, h, spp, 21u), b = render_pt(scene, w, h, spp, 22u);
+  RenderRun a = render_bsdf_sampled(scene, w, h, spp, 21u), b = render_bsdf_sampled(scene, w, h, spp, 22u);
   expect_finite(a, what);
   expect_finite(b, what);
   ReferenceOptions options;
@@ -210,7 +217,7 @@ TEST(PtExtremesDepth, Albedo0999Furnace) {
   const double a = 0.999, le = 0.001;
   Scene scene = make_closed_box(1.0f, emitting(glm::vec3(float(a)), glm::vec3(0.0f), 1.0f, float(le)));
   const std::uint64_t spp = 16;
-  RenderRun run = render_pt(scene, 16, 16, spp, 17u);
+  RenderRun run = render_bsdf_sampled(scene, 16, 16, spp, 17u);
   expect_lambert_furnace(run, a, le, spp, "albedo 0.999");
   // The mean vertex count is the geometric mean 1/(1-a) = 1000, sd sqrt(a)/(1-a) per path.
   const double samples = 16.0 * 16.0 * double(spp);
@@ -225,7 +232,7 @@ TEST(PtExtremesDepth, Albedo0999Furnace) {
 TEST(PtExtremesDepth, HundredsOfSharpBouncesStayFinite) {
   const double a = 0.99, n = 1e6, le = 0.01;
   const float yfov = 0.02f;
-  RenderRun run = render_pt(specular_slab(float(a), float(n), float(le), yfov), 16, 16, 16, 29u);
+  RenderRun run = render_bsdf_sampled(specular_slab(float(a), float(n), float(le), yfov), 16, 16, 16, 29u);
   expect_finite(run, "ks 0.99, shininess 1e6");
   const double per_path = double(run.outcome.rays) / (16.0 * 16.0 * 16.0);
   EXPECT_GT(per_path, 50.0) << "paths should average ~100 vertices";
@@ -257,7 +264,7 @@ void expect_grazing_emitter_exact() {
   scene.camera.up = glm::vec3(0, 0, 1);
   scene.camera.yfov = yfov;
   const int w = 16, h = 64;
-  RenderRun run = render_pt(scene, w, h, 16, 3u);
+  RenderRun run = render_bsdf_sampled(scene, w, h, 16, 3u);
   expect_finite(run, "grazing emitter");
   // camera.h: row py spans screen offsets sy = 2 (py + jy)/h - 1 in [2 py/h - 1, 2 (py+1)/h - 1];
   // a ray descends by sy tan(yfov/2) per unit of horizontal travel (to 1e-6, the columns span
@@ -294,7 +301,7 @@ void expect_grazing_furnace() {
                          glm::vec3(0.0f, -1.0f + 1e-4f, 0.9f), glm::vec3(0.0f, -0.02f, -1.0f),
                          glm::vec3(0.0f, 1.0f, 0.0f), 0.2f);
   const std::uint64_t spp = 64;
-  RenderRun run = render_pt(scene, 16, 16, spp, 9u);
+  RenderRun run = render_bsdf_sampled(scene, 16, 16, spp, 9u);
   expect_lambert_furnace(run, a, le, spp, "grazing furnace");
 }
 
@@ -321,12 +328,12 @@ TEST(PtExtremesGeometry, FurnaceIsScaleInvariant) {
                     offset + scale * glm::vec3(0.1f, -0.05f, 0.02f), glm::vec3(0.3f, 0.2f, -1.0f),
                     glm::vec3(0.0f, 1.0f, 0.0f), 1.2f);
   };
-  RenderRun unit = render_pt(furnace(1.0f, glm::vec3(0.0f)), 16, 16, spp, 4u);
+  RenderRun unit = render_bsdf_sampled(furnace(1.0f, glm::vec3(0.0f)), 16, 16, spp, 4u);
   expect_lambert_furnace(unit, a, le, spp, "scale 1");
   struct Variant { const char* name; float scale; glm::vec3 offset; };
   for (const Variant& v : {Variant{"scale 1e-3", 1e-3f, glm::vec3(0.0f)}, Variant{"scale 1e4", 1e4f, glm::vec3(0.0f)},
                            Variant{"scale 1e4, 100 box sizes from the origin", 1e4f, glm::vec3(1e6f, -1e6f, 1e6f)}}) {
-    RenderRun run = render_pt(furnace(v.scale, v.offset), 16, 16, spp, 4u);
+    RenderRun run = render_bsdf_sampled(furnace(v.scale, v.offset), 16, 16, spp, 4u);
     expect_finite(run, v.name);
     EXPECT_EQ(run.outcome.rays, unit.outcome.rays) << v.name << ": a different number of rays than at scale 1";
     double worst = 0.0;
