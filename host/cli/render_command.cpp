@@ -82,6 +82,12 @@ int run_render(const RenderOptions& o) {
   auto t_load = clock::now();
   Scene scene = load_gltf(o.scene);
   for (const std::string& w : scene.warnings) std::fprintf(stderr, "bundlepath: warning: %s: %s\n", o.scene.c_str(), w.c_str());
+  if (!scene.lights.empty() && !light_sampling_applies(o))
+    std::fprintf(stderr,
+                 "bundlepath: warning: %s: %zu point/spot light(s) are reached by light sampling only, which this run "
+                 "does not use (--mode pt or --mode combined with product weights, without --no-light-sampling): "
+                 "they stay dark\n",
+                 o.scene.c_str(), scene.lights.size());
   double load_seconds = seconds_since(t_load);
 
   int width = o.width;

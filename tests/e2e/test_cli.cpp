@@ -77,6 +77,27 @@ TEST(Cli, RayBundleRenderWritesItsStats) {
   EXPECT_EQ(read_exr(dir + "/rb.exr").width, 24);
 }
 
+// The Blender-exported scene with a point light: lit, and without a warning, where light sampling
+// runs; a run that cannot reach the point light says so.
+TEST(Cli, PointLightSceneRendersLitAndWarnsWhereLightSamplingIsOff) {
+  std::string dir = fresh_dir("point_light");
+  CliResult pt = run_cli("render " + kScenes + "blender-point-light.gltf --width 16 --height 16 --spp 4 --out " + dir +
+                         "/pt --stats " + dir + "/s.json");
+  ASSERT_EQ(pt.exit_code, 0) << pt.output;
+  EXPECT_EQ(pt.output.find("warning"), std::string::npos) << pt.output;
+  nlohmann::json stats = nlohmann::json::parse(std::ifstream(dir + "/s.json"));
+  EXPECT_EQ(stats["lights"], 1);
+  EXPECT_EQ(stats["light_sampling"], true);
+  const ImageRGB image = read_exr(dir + "/pt.exr");
+  EXPECT_GT(*std::max_element(image.rgb.begin(), image.rgb.end()), 0.1f);
+  for (const char* args : {"--mode rb --iterations 2", "--spp 2 --no-light-sampling"}) {
+    CliResult dark = run_cli("render " + kScenes + "blender-point-light.gltf --width 8 --height 8 " +
+                             std::string(args) + " --out " + dir + "/dark");
+    EXPECT_EQ(dark.exit_code, 0) << dark.output;
+    EXPECT_NE(dark.output.find("reached by light sampling only"), std::string::npos) << args << ": " << dark.output;
+  }
+}
+
 TEST(Cli, CompareReportsMetricsAndRejectsMismatchedSizes) {
   std::string dir = fresh_dir("compare");
   ImageRGB a(4, 2), b(4, 2), c(3, 3);
