@@ -1,32 +1,36 @@
 #!/usr/bin/env bash
 # Regenerates every bench table and plot: set-up (gnuplot, time), build of the renderer and bench
-# tools, references, convergence study, knob studies, kernel benchmarks, scaling. Writes the CSVs,
+# tools, references, convergence study, knob studies, kernel benchmarks, scaling, and (not with
+# --quick) the equal-time, light-sampling and kernel-specialisation comparisons. Writes the CSVs,
 # PNGs and Markdown snippets to OUT (bench/results) and OUT/summary.md, which strings the snippets
 # together with the machine, the load average and each stage's run time. See bench/README.md.
 #
-# Usage: bash bench/all.sh [--quick] [--out DIR] [--cap SECONDS] [--no-setup] [--no-build] [--no-plots]
-#                          [--stages "references convergence knobs kernels scaling"]
+# Usage: bash bench/all.sh [--quick] [--out DIR] [--cap SECONDS] [--repeats N] [--no-setup] [--no-build]
+#                          [--no-plots] [--stages "references convergence knobs kernels scaling"]
 #   --quick     tiny sizes, 1 s budgets, 256-spp references (a few minutes; the CTest smoke test runs
 #               it), then checks that every CSV is well formed and every file is there
 #   --no-setup  do not run bench/setup.sh (it needs root or sudo)
 #   --no-build  use the binaries as they are (the smoke test; the default runs `cmake --build`)
+#   --repeats N renders per point in the convergence and knob studies, median relMSE (default 1;
+#               each repeat adds about 17 minutes to the full study)
 # Environment: see bench/lib.sh (BUNDLEPATH [build/bundlepath], BENCH_CACHE, BENCH_DEVICE, ...).
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/.." && pwd)
 
-quick=0; out=""; cap=""; setup=1; build=1; plots=1
-stages="references convergence knobs kernels scaling"
+quick=0; out=""; cap=""; repeats=""; setup=1; build=1; plots=1
+stages="references convergence knobs kernels scaling equal_time light_sampling kernel_features"
 while [ $# -gt 0 ]; do
   case $1 in
     --quick) quick=1 ;;
     --out) out=$2; shift ;;
     --cap) cap=$2; shift ;;
+    --repeats) repeats=$2; shift ;;
     --no-setup) setup=0 ;;
     --no-build) build=0 ;;
     --no-plots) plots=0 ;;
     --stages) stages=$2; shift ;;
-    -h|--help) sed -n '2,14p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,16p' "$0"; exit 0 ;;
     *) echo "all.sh: unknown option $1" >&2; exit 2 ;;
   esac
   shift
@@ -53,6 +57,7 @@ common=(--out "$out")
 [ $quick -eq 1 ] && common+=(--quick)
 study_args=("${common[@]}")
 [ -n "$cap" ] && study_args+=(--cap "$cap")
+[ -n "$repeats" ] && study_args+=(--repeats "$repeats")
 [ $plots -eq 1 ] || study_args+=(--no-plots)
 
 timings=()
@@ -72,6 +77,11 @@ stage convergence bash "$here/convergence.sh" "${study_args[@]}"
 stage knobs bash "$here/knobs.sh" "${study_args[@]}"
 stage kernels bash "$here/kernels.sh" "${common[@]}"
 stage scaling bash "$here/scaling.sh" "${common[@]}"
+if [ $quick -eq 0 ]; then  # fixed-budget comparisons: minutes each, so not in the smoke test
+  stage equal_time bash -c "bash '$here/equal_time.sh' > '$out/equal-time.md'"
+  stage light_sampling bash -c "bash '$here/light_sampling.sh' > '$out/light-sampling.md'"
+  stage kernel_features bash -c "bash '$here/kernel_features.sh' > '$out/kernel-features.md'"
+fi
 load_after=$(cut -d' ' -f1-3 /proc/loadavg)
 total=$(python3 -c "import time; print(f'{time.time() - $t_all:.0f}')")
 
@@ -82,13 +92,16 @@ total=$(python3 -c "import time; print(f'{time.time() - $t_all:.0f}')")
   echo "Load average before / after: $load_before / $load_after. Stage times (s):" \
        "$(printf '%s, ' "${timings[@]}" | sed 's/, $//'); total ${total} s."
   echo
-  for section in convergence knobs kernels scaling; do
+  for section in convergence knobs kernels scaling equal-time light-sampling kernel-features; do
     [ -f "$out/$section.md" ] || continue
     case $section in
       convergence) echo "### Error against time, per scene and mode" ;;
       knobs) echo "### Knobs (cornell-glossy, combined, product weights)" ;;
       kernels) echo "### Kernel throughput" ;;
       scaling) echo "### Scaling" ;;
+      equal-time) echo "### Equal time on cornell-glossy (the paper's claim)" ;;
+      light-sampling) echo "### Light sampling at equal time on cornell-box" ;;
+      kernel-features) echo "### Specialised against generic kernels" ;;
     esac
     echo
     cat "$out/$section.md"

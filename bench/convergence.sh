@@ -5,9 +5,12 @@
 # log-log plot per scene, OUT/convergence-<scene>.png.
 #
 # Usage: bench/convergence.sh [--quick] [--out DIR] [--cap SECONDS] [--size PIXELS] [--scenes "A B"]
-#                             [--modes "LABEL ..."] [--mode-table FILE] [--no-plots] [--references-only]
+#                             [--modes "LABEL ..."] [--mode-table FILE] [--repeats N] [--no-plots]
+#                             [--references-only]
 #   --quick            32x32, budget 1 s, 256-spp references: checks the pipeline, not the figures
 #   --mode-table FILE  extra modes, one "label|renderer flags" per line (added to MODES below)
+#   --repeats N        N renders (independent seeds) per mode and budget; the tables and plots use
+#                      the median relMSE (one firefly can multiply a single run's relMSE)  [1]
 # Environment: see bench/lib.sh (BUNDLEPATH, BENCH_CACHE, BENCH_DEVICE, BENCH_REF_FLAGS);
 #   BENCH_EXTRA_MODES="label|flags;label|flags" adds modes too.
 set -euo pipefail
@@ -31,9 +34,10 @@ MODES=(
   "rb|--mode rb"
   "combined-paper|--mode combined --weights paper"
   "combined-product|--mode combined --weights product"
+  "combined-product-no-light-sampling|--mode combined --weights product --no-light-sampling"
 )
 
-quick=0; out=""; cap=16; size=128; plots=1; refs_only=0; only_scenes=""; only_modes=""; ref_spp_override=""
+quick=0; repeats=1; out=""; cap=16; size=128; plots=1; refs_only=0; only_scenes=""; only_modes=""; ref_spp_override=""
 while [ $# -gt 0 ]; do
   case $1 in
     --quick) quick=1 ;;
@@ -43,12 +47,13 @@ while [ $# -gt 0 ]; do
     --scenes) only_scenes=$2; shift ;;
     --modes) only_modes=$2; shift ;;
     --ref-spp) ref_spp_override=$2; shift ;;
+    --repeats) repeats=$2; shift ;;
     --mode-table) while IFS= read -r line; do
                     case $line in ''|'#'*) ;; *) MODES+=("$line") ;; esac
                   done < "$2"; shift ;;
     --no-plots) plots=0 ;;
     --references-only) refs_only=1 ;;
-    -h|--help) sed -n '2,14p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,17p' "$0"; exit 0 ;;
     *) echo "convergence.sh: unknown option $1" >&2; exit 2 ;;
   esac
   shift
@@ -102,20 +107,22 @@ for entry in "${SCENES[@]}"; do
   [ $refs_only -eq 1 ] && { echo "reference $name: $ref"; continue; }
   for m in "${usable_modes[@]}"; do
     label=${m%%|*}; flags=${m#*|}
-    i=0
-    for b in "${budgets[@]}"; do
-      i=$((i + 1))
-      seed=$((1000 + i))  # never the reference's seed (7), a different stream per budget
-      echo "convergence: $name $label ${b}s" >&2
-      rm -f "$tmp/s.json"
-      rc=0
-      # shellcheck disable=SC2086
-      bench_render "$scene" $flags --width "$size" --height "$size" --time "$b" --seed "$seed" \
-        --reference "$ref" --out "$tmp/img" --stats "$tmp/s.json" 2>>"$log" || rc=$?
-      status=ok; [ $rc -eq 0 ] || status=exit-$rc
-      python3 "$here/report.py" append "$csv" convergence --stats "$tmp/s.json" --status "$status" \
-        scene="$name" mode="$label" flags="$flags" budget_s="$b" seed="$seed" reference="$(basename "$ref")" \
-        reference_spp="$spp"
+    for ((rep = 0; rep < repeats; rep++)); do
+      i=0
+      for b in "${budgets[@]}"; do
+        i=$((i + 1))
+        seed=$((1000 + 100 * rep + i))  # never the reference's seed (7); one stream per budget and repeat
+        echo "convergence: $name $label ${b}s (seed $seed)" >&2
+        rm -f "$tmp/s.json"
+        rc=0
+        # shellcheck disable=SC2086
+        bench_render "$scene" $flags --width "$size" --height "$size" --time "$b" --seed "$seed" \
+          --reference "$ref" --out "$tmp/img" --stats "$tmp/s.json" 2>>"$log" || rc=$?
+        status=ok; [ $rc -eq 0 ] || status=exit-$rc
+        python3 "$here/report.py" append "$csv" convergence --stats "$tmp/s.json" --status "$status" \
+          scene="$name" mode="$label" flags="$flags" budget_s="$b" seed="$seed" reference="$(basename "$ref")" \
+          reference_spp="$spp"
+      done
     done
   done
 done

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Equal-time comparison (the paper's claim): PT alone, RB alone and the combination with both weight
-# modes and several ratios, each for the same wall time, against a long path-traced reference
+# modes and several ratios, without light sampling (the paper's estimators) and with it, each for
+# the same wall time, against a long path-traced reference
 # (bench/reference.sh, cached under ~/.cache/bundlepath/references). Prints a Markdown table and writes the paper's
 # Figure 4 as bench-out/<scene>-contact-sheet.png.
 # Usage: bench/equal_time.sh [SCENE] [SECONDS] [SIZE] [REFERENCE_SPP]
@@ -33,15 +34,22 @@ PY
 }
 echo "| method | work done in ${seconds} s | relMSE | RMSE | mean bias | efficiency 1/(relMSE·s) |"
 echo "|---|---|---|---|---|---|"
-run "PT (--mode pt)" --mode pt
-run "RB (--mode rb)" --mode rb
-for ratio in 4 1 1/4 1/16 1/64; do
-  run "combined, product weights, ratio $ratio" --mode combined --weights product --ratio $ratio
-done
+# The paper's setting: neither estimator samples the lights.
+run "PT, no light sampling" --mode pt --no-light-sampling
+run "RB (\`--mode rb\`)" --mode rb
 for ratio in 1 1/4 1/16; do
+  run "combined, product weights, ratio $ratio, no light sampling" --mode combined --weights product --ratio $ratio \
+    --no-light-sampling
+done
+for ratio in 1 1/4; do
   run "combined, paper weights, ratio $ratio" --mode combined --weights paper --ratio $ratio
 done
-bench_render "$scene" --width "$size" --height "$size" --time "$seconds" --mode combined --ratio 1/16 \
+# With light sampling (DESIGN.md §3), the default.
+run "PT (\`--mode pt\`)" --mode pt
+for ratio in 4 1 1/4 1/16; do
+  run "combined, product weights, ratio $ratio" --mode combined --weights product --ratio $ratio
+done
+bench_render "$scene" --width "$size" --height "$size" --time "$seconds" --mode combined --ratio 1/4 --no-light-sampling \
   --reference "$ref.exr" --contact-sheet "bench-out/$name-contact-sheet.png" --out "$tmp/sheet" 2>/dev/null
 echo
 echo "(${size}x${size}, reference ${ref_spp} spp; $("$BUNDLEPATH" devices | head -1))"

@@ -5,7 +5,9 @@
 # (relMSE per budget, efficiency relative to the default, the most efficient value) and one log-log
 # plot per knob, OUT/knobs-<knob>.png.
 #
-# Usage: bench/knobs.sh [--quick] [--out DIR] [--cap SECONDS] [--size PIXELS] [--ref-spp N] [--no-plots]
+# Usage: bench/knobs.sh [--quick] [--out DIR] [--cap SECONDS] [--size PIXELS] [--ref-spp N] [--repeats N]
+#                       [--no-plots]
+#   --repeats N: N renders (independent seeds) per value and budget; the tables use the median relMSE
 # Environment: see bench/lib.sh.
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
@@ -21,7 +23,7 @@ KNOBS=(
   "--ratio|4 1 1/16 1/64|1"
 )
 
-quick=0; out=""; cap=16; size=128; ref_spp=16384; plots=1
+quick=0; repeats=1; out=""; cap=16; size=128; ref_spp=16384; plots=1
 while [ $# -gt 0 ]; do
   case $1 in
     --quick) quick=1 ;;
@@ -29,8 +31,9 @@ while [ $# -gt 0 ]; do
     --cap) cap=$2; shift ;;
     --size) size=$2; shift ;;
     --ref-spp) ref_spp=$2; shift ;;
+    --repeats) repeats=$2; shift ;;
     --no-plots) plots=0 ;;
-    -h|--help) sed -n '2,10p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,12p' "$0"; exit 0 ;;
     *) echo "knobs.sh: unknown option $1" >&2; exit 2 ;;
   esac
   shift
@@ -60,9 +63,11 @@ trap 'rm -rf "$tmp"' EXIT
 # budget and its row recorded under every knob.
 run() {
   local knob=$1 value=$2; shift 2
-  local i=0 b seed rc status
+  local i b seed rc status rep
+  for ((rep = 0; rep < repeats; rep++)); do
+  i=0
   for b in "${budgets[@]}"; do
-    i=$((i + 1)); seed=$((2000 + i))
+    i=$((i + 1)); seed=$((2000 + 100 * rep + i))
     echo "knobs: $knob $value ${b}s" >&2
     rm -f "$tmp/s.json"
     rc=0
@@ -79,6 +84,7 @@ run() {
       python3 "$here/report.py" append "$csv" knobs --stats "$tmp/s.json" --status "$status" knob="$knob" \
         value="$value" flags="$BASE_FLAGS $*" budget_s="$b" seed="$seed" reference="$(basename "$ref")" reference_spp="$ref_spp"
     fi
+  done
   done
 }
 

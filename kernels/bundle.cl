@@ -78,7 +78,7 @@ __kernel void rb_outgoing(__global const BundleElement* elements, __global const
   float3 wi = facing(n, bp_private3(it.omega_prev));
   float3 wo = facing(n, bp_private3(it.omega));
   float3 transfer = bsdf_eval(&bsdf, n, wi, wo) * BP_TWO_PI;  // 2 pi f, times E_in = L_in cos below
-  const int light_sampling = it.light_count > 0u;
+  const int light_sampling = BP_FEATURE_LIGHT_SAMPLING && it.light_count > 0u;
   for (uint c = 0; c < it.chains; ++c) {
     float4 e = e_in[p * it.chains + c];
     float3 reflected = transfer * make_float3(e.x, e.y, e.z);
@@ -214,7 +214,7 @@ __kernel void rb_tile_resolve(__global const BundleElement* elements, __global c
 
   const float3 omega = bp_private3(it.omega);
   const float4 nothing = (float4)(0.0f, 0.0f, 0.0f, BP_NO_SENDER);  // black, and no P
-  const uint chains = it.chains, direct = it.light_count > 0u ? it.direct_chain : chains;  // chains: none
+  const uint chains = it.chains, direct = BP_FEATURE_LIGHT_SAMPLING && it.light_count > 0u ? it.direct_chain : chains;  // chains: none
   for (uint b = 0; b < BP_TILE_BINS; ++b) {
     uint first = begin + bin_start[b], last = begin + bin_start[b + 1];
     if (first == last) continue;
@@ -394,7 +394,7 @@ __kernel void rb_eye(__global const EyeHit* hits, __global const BundleElement* 
   if (it.weight_mode == BP_WEIGHTS_PRODUCT) {
     // chain 0 already carries prod beta of the earlier vertices; the eye vertex adds its own.
     // With light sampling the eye vertex's emission, like its direct light, is PT's alone.
-    weighted = (it.light_count > 0u ? make_float3(0.0f, 0.0f, 0.0f) : bsdf.emission) +
+    weighted = (BP_FEATURE_LIGHT_SAMPLING && it.light_count > 0u ? make_float3(0.0f, 0.0f, 0.0f) : bsdf.emission) +
                reflected0 * vertex_beta(&bsdf, n, wi, wo, it.weight_ratio);
   } else if (it.weight_mode == BP_WEIGHTS_PAPER) {
     float log_pstar = paper_log_pstar_step(&bsdf, n, wi, wo, e0.w);  // (10) at the eye vertex

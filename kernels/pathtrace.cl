@@ -64,7 +64,7 @@ static PathRadiance trace_path(const SceneRefs* scene, const PathTraceParams* pa
   radiance.raw = make_float3(0.0f, 0.0f, 0.0f);
   float3 throughput = make_float3(1.0f, 1.0f, 1.0f);
   PathPdf pdf = path_pdf_start();
-  const int light_sampling = params->light_count > 0u;
+  const int light_sampling = BP_FEATURE_LIGHT_SAMPLING && params->light_count > 0u;
   float last_prefix_beta = 0.0f, last_pdf_bsdf = 0.0f;  // of the vertex that sampled dir: its prefix, s p_b
   for (bp_u32 depth = 0; depth < params->max_depth; ++depth) {
     Hit hit;

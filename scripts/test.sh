@@ -5,7 +5,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 fuzz_seconds="${BUNDLEPATH_FUZZ_SECONDS:-60}"
-if [ "$fuzz_seconds" -gt 0 ]; then bash scripts/setup.sh --fuzz; else bash scripts/setup.sh; fi
+# gnuplot-nox: the bench smoke test (bench_quick_smoke) then draws its plots too.
+if [ "$fuzz_seconds" -gt 0 ]; then bash scripts/setup.sh --fuzz gnuplot-nox; else bash scripts/setup.sh gnuplot-nox; fi
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release
 cmake --build build -j "$(nproc)"
 status=0

@@ -61,10 +61,14 @@ options (defaults in brackets):
                       eq. 9/10 weights, one P per patch), none (plain sum: double counts)  [product]
   --ratio C           combined: PT samples per pixel per RB iteration         [1/4]
                       0: ray bundles alone (w_RB = 1; count with --iterations or --time)
-  --no-light-sampling no next-event estimation: emitters are reached by BSDF sampling (pt) and
-                      bundles (rb) only, as in the paper. Light sampling acts in --mode pt;
-                      --mode rb and --weights paper never sample lights. Point and spot lights
-                      (KHR_lights_punctual) are reached by light sampling only
+  --no-light-sampling turn light sampling off: emitters are then reached by BSDF sampling (pt)
+                      and bundles (rb) only, as in the paper. Light sampling (next-event
+                      estimation in PT, a shadow ray per patch in RB) acts in --mode pt and in
+                      --mode combined with product weights; --mode rb and --weights paper/none
+                      never sample lights. Point and spot lights (KHR_lights_punctual) are
+                      reached by light sampling only
+  --kernels K         specialised (built with only the features the scene and options use:
+                      Phong lobe, light sampling) or generic (everything)  [specialised]
   --layers all        also write the unweighted pt_raw and rb_raw layers
   --reference REF.exr report relMSE, RMSE and mean bias of every layer against REF
   --contact-sheet F   write F.png: non-weighted PT, weighted PT, combined, non-weighted RB,
@@ -129,6 +133,11 @@ RenderOptions parse_render_options(const std::vector<std::string>& args) {
          if (value != 0.0 && (value < 1e-6 || value > 1e6))
            throw UsageError(k + ": expected 0 or a ratio in [1e-6, 1e6], got '" + v + "'");
          o.ratio = value;
+       }},
+      {"--kernels", [&](auto& k, auto& v) {
+         if (v != "specialised" && v != "generic")
+           throw UsageError(k + ": expected specialised or generic, got '" + v + "'");
+         o.generic_kernels = v == "generic";
        }},
       {"--layers", [&](auto& k, auto& v) {
          if (v != "all") throw UsageError(k + ": the only value is 'all'");

@@ -5,6 +5,7 @@
 #include "cli/progress.h"
 #include "device/device_context.h"
 #include "device/device_scene.h"
+#include "device/kernel_features.h"
 #include "image/accumulator.h"
 #include "image/contact_sheet.h"
 #include "image/image.h"
@@ -61,7 +62,8 @@ std::string options_key(const RenderOptions& o, int width, int height, float pat
                     ";mode=" + o.mode + ";size=" + std::to_string(width) + "x" + std::to_string(height) +
                     ";seed=" + std::to_string(o.seed) + ";patch_size=" + std::to_string(patch_size) +
                     ";max_depth=" + std::to_string(o.max_depth) + ";layers=" + (o.all_layers ? "all" : "default") +
-                    ";light_sampling=" + (light_sampling_applies(o) ? "on" : "off");
+                    ";light_sampling=" + (light_sampling_applies(o) ? "on" : "off") +
+                    ";kernels=" + (o.generic_kernels ? "generic" : "specialised");
   if (o.mode != "pt")
     key += ";bins=" + std::to_string(bins) + ";warmup=" + std::to_string(o.warmup) +
            ";shading=" + (o.gouraud ? "gouraud" : "flat");
@@ -127,6 +129,8 @@ int run_render(const RenderOptions& o) {
   DeviceContext device(select_device(o.device));
   DeviceScene device_scene(device, scene, patches, bvh);
   const CameraParams camera = pack_camera(scene.camera, width, height);
+  const bool light_sampling = light_sampling_applies(o) && device_scene.light_count > 0;
+  const std::string kernel_opts = o.generic_kernels ? "" : kernel_options(features_for(scene, light_sampling));
   Accumulator pt_accum(width, height, o.all_layers), rb_accum(width, height, o.all_layers);
 
   std::unique_ptr<PathTracerPass> pt;
@@ -136,7 +140,8 @@ int run_render(const RenderOptions& o) {
     settings.max_depth = o.max_depth;
     settings.weight_mode = weight_mode;
     settings.weight_ratio = ratio_n2_over_n1;
-    settings.light_sampling = light_sampling_applies(o);
+    settings.light_sampling = light_sampling;
+    settings.kernel_options = kernel_opts;
     pt = std::make_unique<PathTracerPass>(device, device_scene, camera, ray_epsilon_for(scene.bounds), settings, pt_accum);
   }
   std::unique_ptr<RayBundlePass> rb;
@@ -148,7 +153,8 @@ int run_render(const RenderOptions& o) {
     rb_settings.bins = o.bins ? o.bins : default_bins(size);
     rb_settings.warmup = o.warmup;
     rb_settings.gouraud = o.gouraud;
-    rb_settings.light_sampling = light_sampling_applies(o) && device_scene.light_count > 0;
+    rb_settings.light_sampling = light_sampling;
+    rb_settings.kernel_options = kernel_opts;
     rb_settings.weight_mode = weight_mode;
     rb_settings.weight_ratio = ratio_n2_over_n1;
     rb_settings.keep_raw = o.all_layers;
@@ -285,6 +291,7 @@ int run_render(const RenderOptions& o) {
     stats["triangles"] = scene.triangles.size();
     stats["patches"] = patches.patch_count;
     stats["patch_size"] = patch_size;
+    stats["scene_device_bytes"] = device_scene.bytes;  // BVH, shading, materials, lights
     stats["load_seconds"] = load_seconds;
     stats["bvh_build_seconds"] = bvh_seconds;
     double build_seconds = 0.0;
@@ -302,7 +309,8 @@ int run_render(const RenderOptions& o) {
     stats["mrays_per_second"] = mrays_per_second;
     stats["nan_or_inf_samples"] = outcome.nonfinite_samples;
     stats["interrupted"] = outcome.interrupted;
-    stats["light_sampling"] = light_sampling_applies(o) && device_scene.light_count > 0;
+    stats["light_sampling"] = light_sampling;
+    stats["kernel_options"] = kernel_opts;
     stats["lights"] = device_scene.light_count;
     if (!o.resume_path.empty()) stats["resumed_from_rounds"] = first_round;
     if (!o.checkpoint_path.empty()) stats["checkpoint"] = o.checkpoint_path;
@@ -320,6 +328,9 @@ int run_render(const RenderOptions& o) {
       stats["fragments_per_iteration"] = iterations > 0 ? double(outcome.fragments) / iterations : 0.0;
       stats["ms_per_iteration"] = rb_iterations && !shape ? outcome.seconds * 1e3 / iterations : 0.0;
       stats["fragments_per_second"] = outcome.seconds > 0 ? double(outcome.fragments) / outcome.seconds : 0.0;
+      stats["rb_device_bytes_estimate"] = estimate_bundle_memory(bundle_size(scene, patches), rb->bins(),
+                                                                 std::size_t(width) * height, bundle_chains(rb_settings));
+      stats["rb_chains"] = bundle_chains(rb_settings);
     }
     if (reference) stats["reference"] = {{"path", o.reference_path}, {"layers", metrics}};
     write_json_file(o.stats_path, stats);

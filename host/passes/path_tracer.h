@@ -6,6 +6,7 @@
 #include "image/accumulator.h"
 #include "passes/pass.h"
 #include <cstdint>
+#include <string>
 
 namespace bp {
 
@@ -15,6 +16,7 @@ struct PathTracerSettings {
   std::uint32_t weight_mode = BP_WEIGHTS_NONE;
   float weight_ratio = 1.0f;                  // N2 / N1
   bool light_sampling = true;                 // next-event estimation (DESIGN.md §3), where the scene has lights
+  std::string kernel_options;                 // feature switches (device/kernel_features.h); empty: generic
 };
 
 class PathTracerPass : public ProgressivePass {

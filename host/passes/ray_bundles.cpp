@@ -89,7 +89,7 @@ RayBundlePass::RayBundlePass(const DeviceContext& device, const DeviceScene& sce
       tile_count_(std::size_t(bundle_tiles_per_side(bins_ + 1)) * bundle_tiles_per_side(bins_ + 1)),
       centre_(geometry.centre),
       radius_(geometry.radius),
-      program_(build_program(device, "bundle.cl")),
+      program_(build_program(device, "bundle.cl", settings.kernel_options)),
       launcher_(device),
       scan_(device, program_.program) {
   const cl::Program& p = program_.program;

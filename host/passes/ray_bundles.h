@@ -24,6 +24,7 @@ struct RayBundleSettings {
   bool keep_raw = false;              // also the unweighted image (rb_raw)
   bool light_sampling = false;        // per-patch light samples and per-fragment weighted direct light
                                       // (DESIGN.md §3); product weights only, where the scene has lights
+  std::string kernel_options;         // feature switches (device/kernel_features.h); empty: generic
 };
 
 // Bins per side so that an element of average area covers `bins_per_element` bins on average

@@ -29,7 +29,7 @@ BP_FN Bsdf bsdf_from_material(BP_GLOBAL const Material* m) {
   b.flags = m->flags;
   float albedo_d = bp_max3(b.kd), albedo_s = bp_max3(b.ks);
   float albedo = albedo_d + albedo_s;
-  b.p_diffuse = albedo > 0.0f ? albedo_d / albedo : 1.0f;
+  b.p_diffuse = albedo > 0.0f && BP_FEATURE_PHONG ? albedo_d / albedo : 1.0f;  // Lambert-only build: 1
   b.continuation = clamp(bp_max3(b.kd + b.ks), 0.0f, 1.0f);
   return b;
 }
@@ -43,7 +43,7 @@ BP_FN float pow_unit(float cos_angle, float n) { return exp2(n * log2(cos_angle)
 BP_FN float3 bsdf_eval(const Bsdf* b, float3 n, float3 wi, float3 wo) {
   if (dot(n, wi) <= 0.0f || dot(n, wo) <= 0.0f) return make_float3(0.0f, 0.0f, 0.0f);
   float3 f = b->kd * BP_INV_PI;
-  if (b->p_diffuse < 1.0f) {  // a specular lobe (pow is the costliest thing here: skip it for Lambert)
+  if (BP_FEATURE_PHONG && b->p_diffuse < 1.0f) {  // a specular lobe (pow is the costliest thing here: skip it for Lambert)
     float cos_alpha = dot(reflect_about(wo, n), wi);  // the lobe is zero beyond 90 degrees, also for n = 0
     if (cos_alpha > 0.0f)
       f += b->ks * ((b->shininess + 2.0f) * (0.5f * BP_INV_PI) * pow_unit(fmin(cos_alpha, 1.0f), b->shininess));
@@ -63,6 +63,7 @@ BP_FN float pdf_uv_phong_lobe(float cos_alpha, float shininess) {
 BP_FN float bsdf_pdf_uv(const Bsdf* b, float3 n, float3 wi, float3 wo) {
   float cos_theta = dot(n, wi);
   if (cos_theta <= 0.0f) return 0.0f;
+  if (!BP_FEATURE_PHONG || b->p_diffuse >= 1.0f) return pdf_uv_cosine(cos_theta);  // Lambert: no pow
   float cos_alpha = dot(reflect_about(wo, n), wi);
   return b->p_diffuse * pdf_uv_cosine(cos_theta) +
          (1.0f - b->p_diffuse) * pdf_uv_phong_lobe(cos_alpha, b->shininess);

@@ -89,6 +89,15 @@ inline float3 fmax(float3 a, float3 b) { return {std::fmax(a.x, b.x), std::fmax(
 inline float3 fmin(float3 a, float3 b) { return {std::fmin(a.x, b.x), std::fmin(a.y, b.y), std::fmin(a.z, b.z)}; }
 #endif
 
+// Feature switches (host/device/kernel_features.h): the host builds each program with only what the
+// render uses; the generic build, and every host compile of this code, has them all.
+#ifndef BP_FEATURE_PHONG
+#define BP_FEATURE_PHONG 1
+#endif
+#ifndef BP_FEATURE_LIGHT_SAMPLING
+#define BP_FEATURE_LIGHT_SAMPLING 1
+#endif
+
 #define BP_PI 3.14159265358979323846f
 #define BP_TWO_PI 6.28318530717958647692f
 #define BP_INV_PI 0.31830988618379067154f

@@ -1,0 +1,20 @@
+// Kernels built with only the features a render uses (issue #5, "model only what a scene needs"):
+// each feature is a preprocessor switch of the shared kernel code, on in the generic build.
+#pragma once
+#include "scene/scene.h"
+#include <string>
+
+namespace bp {
+
+struct KernelFeatures {
+  bool phong = true;           // a Phong lobe somewhere (ks > 0); off: every material is Lambert
+  bool light_sampling = true;  // next-event estimation / per-patch shadow rays (kernels/shared/lights.h)
+};
+
+// What `scene` needs when light sampling is `light_sampling`.
+KernelFeatures features_for(const Scene& scene, bool light_sampling);
+
+// The build options that switch the features (-DBP_FEATURE_...=0|1).
+std::string kernel_options(const KernelFeatures& features);
+
+}  // namespace bp
