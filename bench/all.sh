@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Regenerates every bench table and plot: set-up (gnuplot, time), build of the renderer and bench
 # tools, references, convergence study, knob studies, kernel benchmarks, scaling, and (not with
-# --quick) the equal-time, light-sampling and kernel-specialisation comparisons. Writes the CSVs,
+# --quick) the equal-time, light-sampling and kernel-specialisation comparisons and the ray-bundle
+# discretisation and warm-up studies. Writes the CSVs,
 # PNGs and Markdown snippets to OUT (bench/results) and OUT/summary.md, which strings the snippets
 # together with the machine, the load average and each stage's run time. See bench/README.md.
 #
@@ -19,7 +20,7 @@ here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/.." && pwd)
 
 quick=0; out=""; cap=""; repeats=""; setup=1; build=1; plots=1
-stages="references convergence knobs kernels scaling equal_time light_sampling kernel_features"
+stages="references convergence knobs kernels scaling equal_time light_sampling kernel_features rb_discretisation rb_warmup"
 while [ $# -gt 0 ]; do
   case $1 in
     --quick) quick=1 ;;
@@ -81,6 +82,8 @@ if [ $quick -eq 0 ]; then  # fixed-budget comparisons: minutes each, so not in t
   stage equal_time bash -c "bash '$here/equal_time.sh' > '$out/equal-time.md'"
   stage light_sampling bash -c "bash '$here/light_sampling.sh' > '$out/light-sampling.md'"
   stage kernel_features bash -c "bash '$here/kernel_features.sh' > '$out/kernel-features.md'"
+  stage rb_discretisation bash -c "bash '$here/rb_discretisation.sh' > '$out/rb-discretisation.md'"
+  stage rb_warmup bash -c "bash '$here/rb_warmup.sh' > '$out/rb-warmup.md'"
 fi
 load_after=$(cut -d' ' -f1-3 /proc/loadavg)
 total=$(python3 -c "import time; print(f'{time.time() - $t_all:.0f}')")
@@ -92,7 +95,7 @@ total=$(python3 -c "import time; print(f'{time.time() - $t_all:.0f}')")
   echo "Load average before / after: $load_before / $load_after. Stage times (s):" \
        "$(printf '%s, ' "${timings[@]}" | sed 's/, $//'); total ${total} s."
   echo
-  for section in convergence knobs kernels scaling equal-time light-sampling kernel-features; do
+  for section in convergence knobs kernels scaling equal-time light-sampling kernel-features rb-discretisation rb-warmup; do
     [ -f "$out/$section.md" ] || continue
     case $section in
       convergence) echo "### Error against time, per scene and mode" ;;
@@ -102,6 +105,8 @@ total=$(python3 -c "import time; print(f'{time.time() - $t_all:.0f}')")
       equal-time) echo "### Equal time on cornell-glossy (the paper's claim)" ;;
       light-sampling) echo "### Light sampling at equal time on cornell-box" ;;
       kernel-features) echo "### Specialised against generic kernels" ;;
+      rb-discretisation) echo "### Ray-bundle discretisation" ;;
+      rb-warmup) echo "### Ray-bundle warm-up" ;;
     esac
     echo
     cat "$out/$section.md"
