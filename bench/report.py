@@ -98,10 +98,9 @@ def cmd_append(args):
     if "ms_per_iteration" in row and secs and fnum(s.get("iterations")):
         # includes the eye estimate and the warm-up iterations' share of the time (rb mode)
         row["ms_per_iteration"] = s.get("ms_per_iteration") or 1e3 * secs / float(s["iterations"])
-    if "device_mib" in row:
-        for key in ("device_bytes", "device_memory_bytes", "peak_device_bytes"):  # if the renderer reports it
-            if fnum(s.get(key)):
-                row["device_mib"] = float(s[key]) / 2**20
+    if "device_mib" in row and fnum(s.get("scene_device_bytes")):
+        # the scene's buffers plus the ray-bundle pass's own estimate of what it allocates
+        row["device_mib"] = (float(s["scene_device_bytes"]) + float(s.get("rb_device_bytes_estimate") or 0)) / 2**20
     if rss_path and "max_rss_mib" in row and os.path.exists(rss_path):
         with open(rss_path) as f:
             lines = [ln.strip() for ln in f if ln.strip().isdigit()]
@@ -345,7 +344,8 @@ def cmd_scaling(args):
           "Time per PT sample is for the whole image (ms per spp); time per RB iteration is `--mode rb`'s "
           "`ms_per_iteration` (binning, exchange, gather and the eye estimate). Peak host memory is "
           "`/usr/bin/time -v`'s maximum resident set of the whole process (on the PoCL CPU device the "
-          "device buffers live in host memory, so it includes them).",
+          "device buffers live in host memory, so it includes them). Device MiB: the scene's buffers "
+          "(`scene_device_bytes`) plus the ray-bundle pass's estimate of its own (`rb_device_bytes_estimate`).",
           ""]
     has_dev = any(fnum(r["device_mib"]) for r in rows)
     for series in dict.fromkeys(r["series"] for r in rows):
@@ -353,24 +353,26 @@ def cmd_scaling(args):
         md.append(f"**{series}**")
         md.append("")
         md.append("| scene | mode | triangles | patches | bins | pixels | ms / PT sample | ms / RB iteration | "
-                  "fragments / iteration | peak host MiB |" + (" device MiB |" if has_dev else ""))
-        md.append("|---|---|---|---|---|---|---|---|---|---|" + ("---|" if has_dev else ""))
+                  "fragments / iteration | M fragments / s | peak host MiB |" + (" device MiB |" if has_dev else ""))
+        md.append("|---|---|---|---|---|---|---|---|---|---|---|" + ("---|" if has_dev else ""))
         for r in srows:
             if r["status"] != "ok":
                 md.append(f"| {r['scene']} | {r['mode']} {r['flags']} | {r['triangles'] or '–'} | {r['patches'] or '–'} | "
-                          f"{r['bins'] or '–'} | {r['width']}×{r['height']} | {r['status']} | | | |" +
+                          f"{r['bins'] or '–'} | {r['width']}×{r['height']} | {r['status']} | | | | |" +
                           (" |" if has_dev else ""))
                 continue
             pixels = f"{r['width']}×{r['height']}"
             ms_s = fnum(r["ms_per_sample"]) if r["mode"] != "rb" else None
             ms_i = fnum(r["ms_per_iteration"]) if r["mode"] == "rb" else None
             frag = fnum(r["fragments_per_iteration"]) if r["mode"] == "rb" else None
+            frag_rate = frag / ms_i * 1e-3 if frag and ms_i else None
             md.append(f"| {r['scene']} | {r['mode']} | {r['triangles']} | {r['patches']} | {r['bins'] or '–'} | {pixels} | "
-                      f"{fmt(ms_s, '.3g')} | {fmt(ms_i, '.3g')} | {fmt(frag, '.3g')} | {fmt(fnum(r['max_rss_mib']), '.0f')} |" +
+                      f"{fmt(ms_s, '.3g')} | {fmt(ms_i, '.3g')} | {fmt(frag, '.3g')} | {fmt(frag_rate, '.3g')} | "
+                      f"{fmt(fnum(r['max_rss_mib']), '.0f')} |" +
                       (f" {fmt(fnum(r['device_mib']), '.0f')} |" if has_dev else ""))
         md.append("")
     if not has_dev:
-        md.append("Device memory: the renderer's `--stats` does not report it yet (column left out).")
+        md.append("Device memory: this renderer's `--stats` does not report it (column left out).")
         md.append("")
     with open(os.path.join(out, "scaling.md"), "w") as f:
         f.write("\n".join(md))
