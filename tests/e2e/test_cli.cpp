@@ -6,6 +6,8 @@
 #include <nlohmann/json.hpp>
 #include <filesystem>
 #include <algorithm>
+#include <cmath>
+#include <vector>
 #include <fstream>
 
 namespace bp::test {
@@ -18,7 +20,7 @@ TEST(Cli, HelpDocumentsEveryRenderOption) {
   CliResult r = run_cli("render --help");
   EXPECT_EQ(r.exit_code, 0);
   for (const char* opt : {"--out", "--width", "--height", "--spp", "--time", "--seed", "--device", "--mode",
-                          "--patch-size", "--stats"})
+                          "--patch-size", "--stats", "--no-light-sampling", "--kernels"})
     EXPECT_NE(r.output.find(opt), std::string::npos) << opt;
   EXPECT_EQ(run_cli("--help").exit_code, 0);
   EXPECT_EQ(run_cli("--version").exit_code, 0);
@@ -35,6 +37,7 @@ TEST(Cli, UsageErrorsExitTwoAndNameTheOption) {
       {"render " + kScenes + "cornell-box.gltf --mode xyz", "--mode"},
       {"render " + kScenes + "cornell-box.gltf --patch-size 0", "--patch-size"},
       {"render " + kScenes + "cornell-box.gltf --spp", "--spp"},
+      {"render " + kScenes + "cornell-box.gltf --kernels fast", "--kernels"},
       {"render", "no scene"},
       {"frobnicate", "unknown command"},
       {"", "usage"},
@@ -95,6 +98,22 @@ TEST(Cli, PointLightSceneRendersLitAndWarnsWhereLightSamplingIsOff) {
                              std::string(args) + " --out " + dir + "/dark");
     EXPECT_EQ(dark.exit_code, 0) << dark.output;
     EXPECT_NE(dark.output.find("reached by light sampling only"), std::string::npos) << args << ": " << dark.output;
+  }
+}
+
+// The specialised build (only the features the render uses) draws the same image as the generic one.
+TEST(Cli, SpecialisedKernelsDrawTheGenericImage) {
+  std::string dir = fresh_dir("kernel_features");
+  for (const char* mode : {"--mode pt --spp 4", "--mode combined --spp 2", "--mode pt --spp 4 --no-light-sampling"}) {
+    std::vector<ImageRGB> images;
+    for (const char* kernels : {"generic", "specialised"}) {
+      CliResult r = run_cli("render " + kScenes + "cornell-box.gltf --width 16 --height 16 " + mode + " --kernels " +
+                            kernels + " --out " + dir + "/" + kernels);
+      ASSERT_EQ(r.exit_code, 0) << r.output;
+      images.push_back(read_exr(dir + "/" + kernels + ".exr"));
+    }
+    for (std::size_t i = 0; i < images[0].rgb.size(); ++i)
+      ASSERT_NEAR(images[0].rgb[i], images[1].rgb[i], 1e-5f * (1.0f + std::fabs(images[0].rgb[i]))) << mode << ", value " << i;
   }
 }
 
