@@ -68,13 +68,9 @@ if [ $quick -eq 1 ]; then
 fi
 out=${out:-$bench_root/bench/results}
 mkdir -p "$out"
-if [ $plots -eq 1 ] && ! command -v gnuplot >/dev/null; then
-  echo "convergence.sh: gnuplot is missing (bash bench/setup.sh installs it), or pass --no-plots" >&2
-  exit 2
-fi
+[ $plots -eq 0 ] || bench_require_gnuplot convergence.sh
 
-budgets=()
-for ((b = 1; b <= cap; b *= 2)); do budgets+=("$b"); done
+mapfile -t budgets < <(bench_budgets "$cap")
 
 # Skip modes whose flags this renderer does not have (yet).
 usable_modes=()

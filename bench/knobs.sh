@@ -44,12 +44,8 @@ if [ $quick -eq 1 ]; then
 fi
 out=${out:-$bench_root/bench/results}
 mkdir -p "$out"
-if [ $plots -eq 1 ] && ! command -v gnuplot >/dev/null; then
-  echo "knobs.sh: gnuplot is missing (bash bench/setup.sh installs it), or pass --no-plots" >&2
-  exit 2
-fi
-budgets=()
-for ((b = 1; b <= cap; b *= 2)); do budgets+=("$b"); done
+[ $plots -eq 0 ] || bench_require_gnuplot knobs.sh
+mapfile -t budgets < <(bench_budgets "$cap")
 
 scene=$(bench_scene "$SCENE")
 ref=$(bench_reference "$scene" "$ref_spp" "$size")

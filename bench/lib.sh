@@ -13,6 +13,8 @@
 # bench_rooms_scene TRIANGLES      -> prints the path of a cached procedural rooms scene (.glb)
 # bench_render ARGS...             -> the renderer with BENCH_DEVICE applied, stderr kept in a log
 # bench_has_flag FLAG              -> true when `render --help` mentions FLAG
+# bench_budgets CAP                -> the wall-time budgets 1, 2, 4, ... up to CAP seconds, one a line
+# bench_require_gnuplot SCRIPT     -> exits 2 naming SCRIPT when gnuplot is missing
 
 bench_root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 BUNDLEPATH=${BUNDLEPATH:-$bench_root/build/bundlepath}
@@ -35,6 +37,17 @@ bench_render() {
   local -a dev
   mapfile -t dev < <(bench_device_args)
   "$BUNDLEPATH" render "$@" "${dev[@]}"
+}
+
+bench_budgets() {
+  local b
+  for ((b = 1; b <= $1; b *= 2)); do echo "$b"; done
+}
+
+bench_require_gnuplot() {
+  command -v gnuplot >/dev/null && return 0
+  echo "$1: gnuplot is missing (bash bench/setup.sh installs it), or pass --no-plots" >&2
+  exit 2
 }
 
 bench_has_flag() {
