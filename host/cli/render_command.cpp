@@ -142,7 +142,7 @@ int run_render(const RenderOptions& o) {
     settings.weight_ratio = ratio_n2_over_n1;
     settings.light_sampling = light_sampling;
     settings.kernel_options = kernel_opts;
-    pt = std::make_unique<PathTracerPass>(device, device_scene, camera, ray_epsilon_for(scene.bounds), settings, pt_accum);
+    pt = std::make_unique<PathTracerPass>(device, device_scene, camera, settings, pt_accum);
   }
   std::unique_ptr<RayBundlePass> rb;
   std::optional<BundleGeometry> geometry;

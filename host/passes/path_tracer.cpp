@@ -5,11 +5,11 @@
 namespace bp {
 
 PathTracerPass::PathTracerPass(const DeviceContext& device, const DeviceScene& scene, const CameraParams& camera,
-                               float ray_epsilon, const PathTracerSettings& settings, Accumulator& accum)
+                               const PathTracerSettings& settings, Accumulator& accum)
     : device_(device), accum_(accum), camera_(camera), launcher_(device) {
   params_.seed = settings.seed;
   params_.max_depth = settings.max_depth;
-  params_.ray_epsilon = ray_epsilon;
+  params_.ray_epsilon = scene.ray_epsilon;
   params_.weight_mode = settings.weight_mode;
   params_.weight_ratio = settings.weight_ratio;
   params_.light_count = settings.light_sampling ? scene.light_count : 0u;

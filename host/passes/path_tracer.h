@@ -23,7 +23,7 @@ class PathTracerPass : public ProgressivePass {
  public:
   // Adds its estimates into `accum` (sized like the camera's image).
   PathTracerPass(const DeviceContext& device, const DeviceScene& scene, const CameraParams& camera,
-                 float ray_epsilon, const PathTracerSettings& settings, Accumulator& accum);
+                 const PathTracerSettings& settings, Accumulator& accum);
 
   // Traces samples [first, first + count) of every pixel.
   BatchCounts run(std::uint64_t first, std::uint32_t count) override;

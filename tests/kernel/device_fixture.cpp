@@ -26,8 +26,7 @@ RenderRun render_pt(const Scene& scene, int width, int height, std::uint64_t spp
   settings.max_depth = max_depth;
   settings.light_sampling = light_sampling;
   Accumulator accum(width, height);
-  PathTracerPass pass(device, device_scene, pack_camera(scene.camera, width, height), ray_epsilon_for(scene.bounds),
-                      settings, accum);
+  PathTracerPass pass(device, device_scene, pack_camera(scene.camera, width, height), settings, accum);
   std::atomic<bool> never{false};
   RenderRun run;
   run.outcome = run_progressive(pass, RenderBudget{spp, 0.0}, never, nullptr);
@@ -107,7 +106,7 @@ CombinedRun render_combined(const Scene& scene, int width, int height, const Com
   pts.weight_mode = weights.mode;
   pts.weight_ratio = weights.ratio_n2_over_n1;
   pts.light_sampling = cs.light_sampling;
-  PathTracerPass pt(device, device_scene, camera, ray_epsilon_for(scene.bounds), pts, pt_accum);
+  PathTracerPass pt(device, device_scene, camera, pts, pt_accum);
   RayBundleSettings rbs;
   rbs.seed = cs.seed;
   rbs.bins = cs.bins;
