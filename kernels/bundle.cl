@@ -54,9 +54,9 @@ static float3 rb_light_sample(__global const BundleElement* e, float3 n, const B
     return make_float3(0.0f, 0.0f, 0.0f);
   float t_max = ls.is_delta ? ls.distance : ls.distance - 4.0f * ray_epsilon;
   if (t_max <= 0.0f || bvh_occluded(nodes, triangles, x, ls.wi, t_max)) return make_float3(0.0f, 0.0f, 0.0f);
-  float pdf_bsdf = bsdf->continuation * bsdf_pdf_uv(bsdf, n, ls.wi, wo);
-  float w = last_segment_weights(1.0f, it->weight_ratio, pdf_bsdf, ls.pdf_uv, ls.is_delta).rb_light;
-  return bsdf_eval(bsdf, n, ls.wi, wo) * ls.radiance_over_pdf * (cos_x * w);  // f cos L / p_solid, weighted
+  BsdfValue v = bsdf_evaluate(bsdf, n, ls.wi, wo);
+  float w = last_segment_weights(1.0f, it->weight_ratio, bsdf->continuation * v.pdf_uv, ls.pdf_uv, ls.is_delta).rb_light;
+  return v.f * ls.radiance_over_pdf * (cos_x * w);  // f cos L / p_solid, weighted
 }
 
 // 1. Outgoing radiance of every patch along the new direction: the random operator T* applied to the
@@ -77,16 +77,17 @@ __kernel void rb_outgoing(__global const BundleElement* elements, __global const
   Bsdf bsdf = bsdf_from_material(&materials[elements[pe & ~BP_BACK_SIDE].material]);
   float3 wi = facing(n, bp_private3(it.omega_prev));
   float3 wo = facing(n, bp_private3(it.omega));
-  float3 transfer = bsdf_eval(&bsdf, n, wi, wo) * BP_TWO_PI;  // 2 pi f, times E_in = L_in cos below
+  BsdfValue v = bsdf_evaluate(&bsdf, n, wi, wo);
+  float3 transfer = v.f * BP_TWO_PI;  // 2 pi f, times E_in = L_in cos below
   const int light_sampling = BP_FEATURE_LIGHT_SAMPLING && it.light_count > 0u;
   for (uint c = 0; c < it.chains; ++c) {
     float4 e = e_in[p * it.chains + c];
     float3 reflected = transfer * make_float3(e.x, e.y, e.z);
     float3 emitted = bsdf.emission;
     float w = 0.0f;
-    if (c == 0 && it.weight_mode == BP_WEIGHTS_PRODUCT) reflected *= vertex_beta(&bsdf, n, wi, wo, it.weight_ratio);
+    if (c == 0 && it.weight_mode == BP_WEIGHTS_PRODUCT) reflected *= vertex_beta(bsdf.continuation, v.pdf_uv, it.weight_ratio);
     if (c == 0 && it.weight_mode == BP_WEIGHTS_PAPER)
-      w = paper_log_pstar_step(&bsdf, n, wi, wo, e.w);  // (10)
+      w = paper_log_pstar_step(bsdf.continuation, v.pdf_uv, e.w);  // (10)
     if (c == 0 && light_sampling) {
       float4 direct = e_in[p * it.chains + it.direct_chain];  // already weighted per fragment
       reflected += transfer * make_float3(direct.x, direct.y, direct.z);
@@ -387,7 +388,8 @@ __kernel void rb_eye(__global const EyeHit* hits, __global const BundleElement* 
   Bsdf bsdf = bsdf_from_material(&materials[elements[pe & ~BP_BACK_SIDE].material]);
   float3 wo = make_float3(h.wo[0], h.wo[1], h.wo[2]);
   float3 wi = facing(n, bp_private3(it.omega));
-  float3 transfer = bsdf_eval(&bsdf, n, wi, wo) * BP_TWO_PI;
+  BsdfValue v = bsdf_evaluate(&bsdf, n, wi, wo);
+  float3 transfer = v.f * BP_TWO_PI;
   float4 e0 = eye_irradiance(&h, e_in, patch_vertices, e_vertex, gouraud, it.chains, 0u);
   float3 reflected0 = transfer * make_float3(e0.x, e0.y, e0.z);
   float3 weighted;
@@ -395,9 +397,9 @@ __kernel void rb_eye(__global const EyeHit* hits, __global const BundleElement* 
     // chain 0 already carries prod beta of the earlier vertices; the eye vertex adds its own.
     // With light sampling the eye vertex's emission, like its direct light, is PT's alone.
     weighted = (BP_FEATURE_LIGHT_SAMPLING && it.light_count > 0u ? make_float3(0.0f, 0.0f, 0.0f) : bsdf.emission) +
-               reflected0 * vertex_beta(&bsdf, n, wi, wo, it.weight_ratio);
+               reflected0 * vertex_beta(bsdf.continuation, v.pdf_uv, it.weight_ratio);
   } else if (it.weight_mode == BP_WEIGHTS_PAPER) {
-    float log_pstar = paper_log_pstar_step(&bsdf, n, wi, wo, e0.w);  // (10) at the eye vertex
+    float log_pstar = paper_log_pstar_step(bsdf.continuation, v.pdf_uv, e0.w);  // (10) at the eye vertex
     weighted = bsdf.emission * paper_rb_weight(0.0f, it.weight_ratio) +  // the emitter seen directly: P = 1
                reflected0 * paper_rb_weight(log_pstar, it.weight_ratio);
   } else {

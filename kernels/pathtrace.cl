@@ -29,7 +29,7 @@ typedef struct {
 // the eye vertex, and every path when PT runs without RB.
 static float last_segment_prefix_beta(const PathTraceParams* params, const PathPdf* pdf, bp_u32 depth) {
   if (params->weight_mode != BP_WEIGHTS_PRODUCT || depth == 0u) return 0.0f;
-  return exp(pdf->log_beta_product);
+  return pdf->beta_product;
 }
 
 // Next-event estimation at a vertex: one light sample, one shadow ray, weighted as the PT light
@@ -47,9 +47,10 @@ static void add_light_sample(const SceneRefs* scene, const PathTraceParams* para
   float t_max = ls.is_delta ? ls.distance : ls.distance - 4.0f * params->ray_epsilon;
   *rays += 1u;
   if (t_max <= 0.0f || bvh_occluded(scene->nodes, scene->triangles, x, ls.wi, t_max)) return;
-  float pdf_bsdf = bsdf->continuation * bsdf_pdf_uv(bsdf, surface->normal, ls.wi, wo);  // s p_b
+  BsdfValue v = bsdf_evaluate(bsdf, surface->normal, ls.wi, wo);
+  float pdf_bsdf = bsdf->continuation * v.pdf_uv;  // s p_b
   // f cos L / p_solid  (the light-sampling estimator of the rendering equation's integral)
-  float3 contribution = throughput * bsdf_eval(bsdf, surface->normal, ls.wi, wo) * ls.radiance_over_pdf * cos_x;
+  float3 contribution = throughput * v.f * ls.radiance_over_pdf * cos_x;
   LastSegmentWeights w = last_segment_weights(prefix_beta, params->weight_ratio, pdf_bsdf, ls.pdf_uv, ls.is_delta);
   // The raw layer's PT-alone weights: the same as w without a prefix (pt mode, the eye vertex).
   LastSegmentWeights alone =
@@ -80,13 +81,14 @@ static PathRadiance trace_path(const SceneRefs* scene, const PathTraceParams* pa
     // Emission picked up after this prefix, weighted with w_PT of the prefix (DESIGN.md §3); with
     // light sampling, as the PT BSDF technique of the last segment unless the eye sees it.
     float3 emitted = throughput * bsdf.emission;
-    if (!light_sampling) {
+    const int emits = emitted.x + emitted.y + emitted.z > 0.0f;
+    if (emits && !light_sampling) {
       radiance.raw += emitted;
       radiance.weighted += emitted * pt_emission_weight(&pdf, params->weight_mode, params->weight_ratio);
-    } else if (depth == 0u) {  // the emitter seen directly: PT's alone with light sampling, as its direct light
+    } else if (emits && depth == 0u) {  // the emitter seen directly: PT's alone with light sampling, as its direct light
       radiance.raw += emitted;
       radiance.weighted += emitted;
-    } else if (emitted.x + emitted.y + emitted.z > 0.0f) {
+    } else if (emits) {
       float pdf_light = light_pdf_uv_area(scene->materials[surface.material].light_pdf_area, hit.t,
                                           dot(surface.normal, wo));
       LastSegmentWeights w = last_segment_weights(last_prefix_beta, params->weight_ratio, last_pdf_bsdf, pdf_light, 0);
@@ -107,13 +109,14 @@ static PathRadiance trace_path(const SceneRefs* scene, const PathTraceParams* pa
     if (sample.pdf_uv <= 0.0f) break;
     float cos_theta = dot(surface.normal, sample.wi);
     // f cos / (s p_solid_angle), with p_solid_angle = pdf_uv / 2 pi  (7)
-    throughput *= bsdf_eval(&bsdf, surface.normal, sample.wi, wo) *
+    throughput *= sample.f *
                   (cos_theta * BP_TWO_PI / (bsdf.continuation * sample.pdf_uv));
-    path_pdf_step(&pdf, bsdf.continuation, sample.pdf_uv);
     last_prefix_beta = prefix_beta;
     last_pdf_bsdf = bsdf.continuation * sample.pdf_uv;
+    // Only the weights of the mode need the pdf state: q and r for paper, prod beta for product.
+    if (params->weight_mode == BP_WEIGHTS_PAPER) path_pdf_step(&pdf, bsdf.continuation, sample.pdf_uv);
     if (params->weight_mode == BP_WEIGHTS_PRODUCT)
-      path_pdf_multiply_beta(&pdf, vertex_beta(&bsdf, surface.normal, sample.wi, wo, params->weight_ratio));
+      path_pdf_multiply_beta(&pdf, vertex_beta(bsdf.continuation, sample.pdf_uv, params->weight_ratio));
     origin = surface.position + surface.normal * params->ray_epsilon;
     dir = sample.wi;
   }

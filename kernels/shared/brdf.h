@@ -39,35 +39,38 @@ BP_FN Bsdf bsdf_from_material(BP_GLOBAL const Material* m) {
 // it is given allows (an error dc moves cos^n by n dc / cos either way).
 BP_FN float pow_unit(float cos_angle, float n) { return exp2(n * log2(cos_angle)); }
 
-// f(wi, wo) in sr^-1: kd/pi + ks (n+2)/(2 pi) cos^n alpha, alpha between wi and the mirror of wo.
-BP_FN float3 bsdf_eval(const Bsdf* b, float3 n, float3 wi, float3 wo) {
-  if (dot(n, wi) <= 0.0f || dot(n, wo) <= 0.0f) return make_float3(0.0f, 0.0f, 0.0f);
-  float3 f = b->kd * BP_INV_PI;
-  if (BP_FEATURE_PHONG && b->p_diffuse < 1.0f) {  // a specular lobe (pow is the costliest thing here: skip it for Lambert)
-    float cos_alpha = dot(reflect_about(wo, n), wi);  // the lobe is zero beyond 90 degrees, also for n = 0
-    if (cos_alpha > 0.0f)
-      f += b->ks * ((b->shininess + 2.0f) * (0.5f * BP_INV_PI) * pow_unit(fmin(cos_alpha, 1.0f), b->shininess));
-  }
-  return f;
-}
-
 // Diffuse lobe, cosine-weighted: pdf_uv = 2 cos(theta)   (paper §5.2).
 BP_FN float pdf_uv_cosine(float cos_theta) { return cos_theta > 0.0f ? 2.0f * cos_theta : 0.0f; }
 
-// Phong lobe around the mirror direction: pdf_uv = (n+1) cos^n(alpha)   (DESIGN.md §2).
-BP_FN float pdf_uv_phong_lobe(float cos_alpha, float shininess) {
-  return cos_alpha > 0.0f ? (shininess + 1.0f) * pow_unit(fmin(cos_alpha, 1.0f), shininess) : 0.0f;
+// The BRDF and the PT density of one pair of directions, which share the lobe's cos^n (the costliest
+// thing in either): callers that need both (a weight beside a reflection) evaluate it once.
+typedef struct {
+  float3 f;      // f(wi, wo) in sr^-1: kd/pi + ks (n+2)/(2 pi) cos^n alpha, alpha between wi and the mirror of wo
+  float pdf_uv;  // the PT density of wi given wo: the full lobe mixture, whichever lobe was sampled (DESIGN.md §2)
+} BsdfValue;
+
+BP_FN BsdfValue bsdf_evaluate(const Bsdf* b, float3 n, float3 wi, float3 wo) {
+  BsdfValue v;
+  v.f = make_float3(0.0f, 0.0f, 0.0f);
+  v.pdf_uv = 0.0f;
+  float cos_theta = dot(n, wi);
+  if (cos_theta <= 0.0f) return v;
+  const int front = dot(n, wo) > 0.0f;
+  if (front) v.f = b->kd * BP_INV_PI;
+  if (!BP_FEATURE_PHONG || b->p_diffuse >= 1.0f) {  // Lambert: no cos^n
+    v.pdf_uv = pdf_uv_cosine(cos_theta);
+    return v;
+  }
+  float cos_alpha = dot(reflect_about(wo, n), wi);  // the lobe is zero beyond 90 degrees, also for n = 0
+  float lobe = cos_alpha > 0.0f ? pow_unit(fmin(cos_alpha, 1.0f), b->shininess) : 0.0f;
+  if (front) v.f += b->ks * ((b->shininess + 2.0f) * (0.5f * BP_INV_PI) * lobe);
+  // Phong lobe around the mirror direction: pdf_uv = (n+1) cos^n(alpha)   (DESIGN.md §2)
+  v.pdf_uv = b->p_diffuse * pdf_uv_cosine(cos_theta) + (1.0f - b->p_diffuse) * ((b->shininess + 1.0f) * lobe);
+  return v;
 }
 
-// The PT density of wi given wo: the full lobe mixture, whichever lobe was sampled (DESIGN.md §2).
-BP_FN float bsdf_pdf_uv(const Bsdf* b, float3 n, float3 wi, float3 wo) {
-  float cos_theta = dot(n, wi);
-  if (cos_theta <= 0.0f) return 0.0f;
-  if (!BP_FEATURE_PHONG || b->p_diffuse >= 1.0f) return pdf_uv_cosine(cos_theta);  // Lambert: no pow
-  float cos_alpha = dot(reflect_about(wo, n), wi);
-  return b->p_diffuse * pdf_uv_cosine(cos_theta) +
-         (1.0f - b->p_diffuse) * pdf_uv_phong_lobe(cos_alpha, b->shininess);
-}
+BP_FN float3 bsdf_eval(const Bsdf* b, float3 n, float3 wi, float3 wo) { return bsdf_evaluate(b, n, wi, wo).f; }
+BP_FN float bsdf_pdf_uv(const Bsdf* b, float3 n, float3 wi, float3 wo) { return bsdf_evaluate(b, n, wi, wo).pdf_uv; }
 
 // Cosine-weighted direction about +z of a local frame.
 BP_FN float3 sample_cosine_local(float u1, float u2) {
@@ -88,6 +91,7 @@ BP_FN float3 sample_phong_lobe_local(float u1, float u2, float shininess) {
 typedef struct {
   float3 wi;
   float pdf_uv;   // mixture density of wi (0: the sample fell below the surface; end the path)
+  float3 f;       // f(wi, wo)
 } BsdfSample;
 
 BP_FN BsdfSample bsdf_sample(const Bsdf* b, float3 n, float3 wo, float u_lobe, float u1, float u2) {
@@ -99,7 +103,9 @@ BP_FN BsdfSample bsdf_sample(const Bsdf* b, float3 n, float3 wo, float u_lobe, f
     Frame f = frame_from_normal(reflect_about(wo, n));
     s.wi = frame_to_world(&f, sample_phong_lobe_local(u1, u2, b->shininess));
   }
-  s.pdf_uv = bsdf_pdf_uv(b, n, s.wi, wo);
+  BsdfValue v = bsdf_evaluate(b, n, s.wi, wo);
+  s.pdf_uv = v.pdf_uv;
+  s.f = v.f;
   return s;
 }
 

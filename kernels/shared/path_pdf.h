@@ -11,7 +11,9 @@
 typedef struct {
   float log_q;             // ln q: density of the prefix with the walk still alive
   float log_r;             // ln r: density of the prefixes that Russian roulette ended (uniform tail)
-  float log_beta_product;  // ln prod beta of the product weights (DESIGN.md §3); 0 = empty product
+  float beta_product;      // prod beta of the product weights (DESIGN.md §3); 1 = empty product. Each
+                           // beta is in [0, 1], so it cannot overflow; underflow to 0 is its limit
+                           // (w_RB = 0), which RB's own products reach alike
 } PathPdf;
 
 // ln(e^a + e^b) without overflow.
@@ -25,7 +27,7 @@ BP_FN PathPdf path_pdf_start(void) {
   PathPdf p;
   p.log_q = 0.0f;          // q_0 = 1   (9)
   p.log_r = BP_LOG_ZERO;   // r_0 = 0   (9)
-  p.log_beta_product = 0.0f;
+  p.beta_product = 1.0f;
   return p;
 }
 
@@ -37,8 +39,9 @@ BP_FN void path_pdf_step(PathPdf* p, float continuation, float pdf_uv) {
   p->log_q = log(continuation) + log(pdf_uv) + log_q_prev;           // q_k = s p q_{k-1}               (9)
 }
 
-// One vertex's beta of the product weights (kernels/shared/weights.h), kept as a logarithm.
-BP_FN void path_pdf_multiply_beta(PathPdf* p, float beta) { p->log_beta_product += log(beta); }
+// One vertex's beta of the product weights (kernels/shared/weights.h). Not a logarithm: PoCL's log()
+// per vertex made the weighted path tracer 17 % slower than PT alone.
+BP_FN void path_pdf_multiply_beta(PathPdf* p, float beta) { p->beta_product *= beta; }
 
 // ln P* = ln(q + r), the prefix density when ended walks continue uniformly (eq. 8).
 BP_FN float path_pdf_log_pstar(const PathPdf* p) { return log_add_exp(p->log_q, p->log_r); }
@@ -51,7 +54,7 @@ BP_FN float pt_emission_weight(const PathPdf* p, bp_u32 mode, float ratio_n2_ove
     float x = path_pdf_log_pstar(p) - log(ratio_n2_over_n1);
     return 1.0f / (1.0f + exp(-x));
   }
-  if (mode == BP_WEIGHTS_PRODUCT) return -expm1(p->log_beta_product);  // w_PT = 1 - prod beta, precise near 1
+  if (mode == BP_WEIGHTS_PRODUCT) return 1.0f - p->beta_product;  // w_PT = 1 - prod beta
   return 1.0f;
 }
 

@@ -6,29 +6,27 @@
 #include "shared/compat.h"
 #include "shared/path_pdf.h"
 
-// The PT density, with Russian roulette, of the direction wi that continues the path from a vertex
-// whose eye side is wo -- the one-step quantity of eq. (10): (1 - s) + s p_uv(wi | wo).
-BP_FN float vertex_pt_density(const Bsdf* b, float3 n, float3 wi, float3 wo) {
-  return (1.0f - b->continuation) + b->continuation * bsdf_pdf_uv(b, n, wi, wo);
-}
-
 // beta of a vertex (DESIGN.md §3, product weights): the paper's balance weight of one step,
-// beta = N2 / (N2 + N1 P), P = (1 - s) + s p_uv(wi | wo). RB multiplies it in when it reflects and
-// at the eye; PT multiplies the same product along its walk: w_RB = prod beta, w_PT = 1 - prod beta.
-// The heuristic lives here alone, so variants can be measured against each other.
-BP_FN float vertex_beta(const Bsdf* b, float3 n, float3 wi, float3 wo, float ratio_n2_over_n1) {
-  float p = vertex_pt_density(b, n, wi, wo);
-  return ratio_n2_over_n1 / (ratio_n2_over_n1 + p);
+// beta = N2 / (N2 + N1 P), with P = (1 - s) + s p_uv(wi | wo) the PT density, with Russian roulette,
+// of the direction wi that continues the path from a vertex whose eye side is wo (the one-step
+// quantity of eq. 10). RB multiplies it in when it reflects and at the eye; PT multiplies the same
+// product along its walk: w_RB = prod beta, w_PT = 1 - prod beta. The heuristic lives here alone, so
+// variants can be measured against each other. Callers pass p_uv(wi | wo) from bsdf_evaluate (the
+// path tracer: from bsdf_sample, which returns the same number), so the lobe is evaluated once.
+BP_FN float vertex_beta(float continuation, float pdf_uv, float ratio_n2_over_n1) {
+  float pt_density = (1.0f - continuation) + continuation * pdf_uv;
+  return ratio_n2_over_n1 / (ratio_n2_over_n1 + pt_density);
 }
 
 BP_FN float log_or_zero(float x) { return x > 0.0f ? log(x) : BP_LOG_ZERO; }
 
-// One step of eq. (10) at a vertex that reflects light arriving from wi towards wo,
-// P = s p_uv(wi | wo) P_prev + (1 - s), on ln P: P passes 1e38 on long paths through sharp lobes.
-// Taken from the light towards the eye it gives exactly PT's q + r (eq. 9) of the same directions.
-BP_FN float paper_log_pstar_step(const Bsdf* b, float3 n, float3 wi, float3 wo, float log_pstar_prev) {
-  float s = b->continuation;
-  return log_add_exp(log_or_zero(s) + log_or_zero(bsdf_pdf_uv(b, n, wi, wo)) + log_pstar_prev, log_or_zero(1.0f - s));
+// One step of eq. (10) at a vertex that reflects light arriving from wi towards wo (continuation s,
+// p_uv(wi | wo) from bsdf_evaluate), P = s p_uv(wi | wo) P_prev + (1 - s), on ln P: P passes 1e38 on
+// long paths through sharp lobes. Taken from the light towards the eye it gives exactly PT's q + r
+// (eq. 9) of the same directions.
+BP_FN float paper_log_pstar_step(float continuation, float pdf_uv, float log_pstar_prev) {
+  float s = continuation;
+  return log_add_exp(log_or_zero(s) + log_or_zero(pdf_uv) + log_pstar_prev, log_or_zero(1.0f - s));
 }
 
 // The paper's RB weight (eq. 4 with P* from eq. 10): w_RB = N2 / (N1 P* + N2), as a logistic of

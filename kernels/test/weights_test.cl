@@ -23,8 +23,10 @@ __kernel void path_weights(__global const Material* materials, __global const fl
   for (uint k = 0; k < vertices; ++k) {
     Bsdf b = bsdf_from_material(&m[k]);
     float3 n = bp_load3(g + 9 * k), wo = bp_load3(g + 9 * k + 3), wi = bp_load3(g + 9 * k + 6);
-    path_pdf_step(&pdf, b.continuation, bsdf_pdf_uv(&b, n, wi, wo));
-    if (mode == BP_WEIGHTS_PRODUCT) path_pdf_multiply_beta(&pdf, vertex_beta(&b, n, wi, wo, ratio));
+    float pdf_uv = bsdf_pdf_uv(&b, n, wi, wo);  // what bsdf_sample returns with the direction
+    if (mode == BP_WEIGHTS_PAPER) path_pdf_step(&pdf, b.continuation, pdf_uv);
+    if (mode == BP_WEIGHTS_PRODUCT)
+      path_pdf_multiply_beta(&pdf, vertex_beta(b.continuation, pdf_uv, ratio));
   }
   float w_pt = pt_emission_weight(&pdf, mode, ratio);
 
@@ -34,8 +36,9 @@ __kernel void path_weights(__global const Material* materials, __global const fl
   for (int k = (int)vertices - 1; k >= 0; --k) {
     Bsdf b = bsdf_from_material(&m[k]);
     float3 n = bp_load3(g + 9 * k), wo = bp_load3(g + 9 * k + 3), wi = bp_load3(g + 9 * k + 6);
-    if (mode == BP_WEIGHTS_PRODUCT) w_rb *= vertex_beta(&b, n, wi, wo, ratio);
-    log_pstar = paper_log_pstar_step(&b, n, wi, wo, log_pstar);
+    float pdf_uv = bsdf_evaluate(&b, n, wi, wo).pdf_uv;
+    if (mode == BP_WEIGHTS_PRODUCT) w_rb *= vertex_beta(b.continuation, pdf_uv, ratio);
+    log_pstar = paper_log_pstar_step(b.continuation, pdf_uv, log_pstar);
   }
   if (mode == BP_WEIGHTS_PAPER) w_rb = paper_rb_weight(log_pstar, ratio);
   if (mode == BP_WEIGHTS_NONE) w_rb = 1.0f;
@@ -67,9 +70,9 @@ __kernel void last_segment_path_weights(__global const Material* materials, __gl
   for (uint k = 0; k < last; ++k) {
     Bsdf b = bsdf_from_material(&m[k]);
     float3 n = bp_load3(g + 9 * k), wo = bp_load3(g + 9 * k + 3), wi = bp_load3(g + 9 * k + 6);
-    path_pdf_multiply_beta(&pdf, vertex_beta(&b, n, wi, wo, ratio));
+    path_pdf_multiply_beta(&pdf, vertex_beta(b.continuation, bsdf_pdf_uv(&b, n, wi, wo), ratio));
   }
-  float prefix = last == 0u ? 0.0f : exp(pdf.log_beta_product);
+  float prefix = last == 0u ? 0.0f : pdf.beta_product;
   LastSegmentWeights pt = last_segment_weights(prefix, ratio, pdf_bsdf, pdf_light[path], (int)is_delta[path]);
 
   // RB: the last vertex's factor, then beta at each reflection towards the eye (rb_outgoing), and at
@@ -79,7 +82,7 @@ __kernel void last_segment_path_weights(__global const Material* materials, __gl
   for (int k = (int)last - 1; k >= 0; --k) {
     Bsdf b = bsdf_from_material(&m[k]);
     float3 n = bp_load3(g + 9 * k), wo = bp_load3(g + 9 * k + 3), wi = bp_load3(g + 9 * k + 6);
-    float beta = vertex_beta(&b, n, wi, wo, ratio);
+    float beta = vertex_beta(b.continuation, bsdf_evaluate(&b, n, wi, wo).pdf_uv, ratio);
     rb_bundle *= beta;
     rb_light *= beta;
   }

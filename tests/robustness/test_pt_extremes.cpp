@@ -169,7 +169,7 @@ TEST(PtExtremesShininess, SharpSpecularLobesKeepTheirAlbedo) {
 }
 
 // Shininess 0: the lobe cos^0(alpha) = 1 makes its support matter. The reference renderer and
-// pdf_uv_phong_lobe take the lobe as 0 where cos(alpha) <= 0 (the directional albedo of ks alone
+// bsdf_evaluate take the lobe as 0 where cos(alpha) <= 0 (the directional albedo of ks alone
 // is then ks (1 + cos theta_o)/2, not ks: no closed form for a box), so compare with the
 // independent reference renderer, which shares nothing with the kernel but the Scene.
 // Two PT runs with different seeds give the PT variance from their difference (P pixels, exact
