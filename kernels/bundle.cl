@@ -1,6 +1,5 @@
 // Global ray-bundle iteration (DESIGN.md §4) with a software transillumination buffer. One iteration:
-//   rb_outgoing -> rb_count -> scan -> rb_emit -> rb_tile_count -> scan -> rb_tile_scatter
-//   -> rb_tile_resolve -> rb_gather -> (rb_vertex -> rb_eye)
+//   rb_outgoing -> rb_emit -> scan -> rb_tile_scatter -> rb_tile_resolve -> rb_gather -> (rb_vertex -> rb_eye)
 // Patch radiance is kept as E_in = L_in cos(theta_in) ("irradiance over pi"), so an element seen
 // edge-on never divides by its cosine.
 #include "shared/types.h"
@@ -104,57 +103,52 @@ __kernel void rb_outgoing(__global const BundleElement* elements, __global const
   }
 }
 
-// 2. Bins covered by each element.
-__kernel void rb_count(__global const BundleElement* elements, const BundleIteration it, const uint count,
-                       __global uint* fragment_counts) {
-  uint e = (uint)get_global_id(0);
-  if (e >= count) return;
-  RasterElement r = raster_setup(&elements[e], &it);
-  fragment_counts[e] = raster_count(&r);
-}
-
-// 3. Fragments (tile key, depth, element), emitted grouped by element at the scanned offsets. The
-//    key packs the bin as its 16x16 tile and its place in the tile: tile << 8 | local bin.
+// 2. Fragments (tile key, depth) of each element, rasterized once into the element's own slots
+//    [slot_start[e], slot_start[e + 1]) (raster_fragment_bound: never more; the loop stops there all
+//    the same), their number, and the fragments per tile. The key packs the bin as its 16x16 tile and
+//    its place in the tile: tile << 8 | local bin.
 __kernel void rb_emit(__global const BundleElement* elements, const BundleIteration it, const uint count,
-                      __global const uint* fragment_offsets, __global uint* fragment_key,
-                      __global float* fragment_depth, __global uint* fragment_element) {
+                      __global const uint* slot_start, __global uint* fragment_counts, __global uint* fragment_key,
+                      __global float* fragment_depth, __global uint* tile_counts) {
   uint e = (uint)get_global_id(0);
   if (e >= count) return;
   RasterElement r = raster_setup(&elements[e], &it);
-  uint slot = fragment_offsets[e];
-  for (int j = r.j0; j <= r.j1; ++j) {
+  const uint begin = slot_start[e], end = slot_start[e + 1];
+  uint slot = begin;
+  for (int j = r.j0; j <= r.j1 && slot < end; ++j) {
     int first, last;
     raster_row_span(&r, j, &first, &last);
-    for (int i = first; i <= last; ++i) {
-      fragment_key[slot] = bundle_tile_key((uint)i, (uint)j, it.bins_per_side);
+    for (int i = first; i <= last && slot < end; ++i) {
+      uint key = bundle_tile_key((uint)i, (uint)j, it.bins_per_side);
+      fragment_key[slot] = key;
       fragment_depth[slot] = raster_depth(&r, i, j);
-      fragment_element[slot] = e;
+      atomic_inc(&tile_counts[key >> BP_TILE_LOCAL_BITS]);
       ++slot;
     }
   }
+  fragment_counts[e] = slot - begin;
 }
 
-// 4. Counting sort by tile: count, (scan), scatter. The scatter also copies each fragment's depth,
-//    element and local bin next to its tile's other fragments, so a tile is resolved from one
-//    contiguous range.
-__kernel void rb_tile_count(__global const uint* fragment_key, const uint fragments, __global uint* tile_counts) {
-  uint f = (uint)get_global_id(0);
-  if (f >= fragments) return;
-  atomic_inc(&tile_counts[fragment_key[f] >> BP_TILE_LOCAL_BITS]);
-}
-
-__kernel void rb_tile_scatter(__global const uint* fragment_key, __global const float* fragment_depth,
-                              __global const uint* fragment_element, const uint fragments,
-                              __global uint* tile_cursor, __global uint* tiled_slot, __global uint* tiled_local,
-                              __global float* tiled_depth, __global uint* tiled_element) {
-  uint f = (uint)get_global_id(0);
-  if (f >= fragments) return;
-  uint key = fragment_key[f];
-  uint at = atomic_inc(&tile_cursor[key >> BP_TILE_LOCAL_BITS]);
-  tiled_slot[at] = f;
-  tiled_local[at] = key & (BP_TILE_BINS - 1u);
-  tiled_depth[at] = fragment_depth[f];
-  tiled_element[at] = fragment_element[f];
+// 3. Counting sort by tile, after the scan of the tile counts: each element places its fragments in
+//    their tiles' ranges, with depth, element and local bin next to the tile's other fragments so a
+//    tile is resolved from one contiguous range, and remembers where each went (tiled_at). Taking the
+//    places by counting the tile counts down to 0 leaves them cleared for the next iteration's emit.
+__kernel void rb_tile_scatter(__global const uint* slot_start, __global const uint* fragment_counts,
+                              __global const uint* fragment_key, __global const float* fragment_depth,
+                              const uint count, __global const uint* tile_start, __global uint* tile_counts,
+                              __global uint* tiled_at, __global uint* tiled_local, __global float* tiled_depth,
+                              __global uint* tiled_element) {
+  uint e = (uint)get_global_id(0);
+  if (e >= count) return;
+  const uint begin = slot_start[e], end = begin + fragment_counts[e];
+  for (uint s = begin; s < end; ++s) {
+    uint key = fragment_key[s], tile = key >> BP_TILE_LOCAL_BITS;
+    uint at = tile_start[tile] + atomic_dec(&tile_counts[tile]) - 1u;
+    tiled_at[s] = at;
+    tiled_local[at] = key & (BP_TILE_BINS - 1u);
+    tiled_depth[at] = fragment_depth[s];
+    tiled_element[at] = e;
+  }
 }
 
 // Depth order within a bin; ties (touching elements) broken by element index so the order, and
@@ -191,17 +185,18 @@ static float4 rb_direct_received(__global const BundleElement* elements, __globa
   return (float4)(le.x * w, le.y * w, le.z * w, 0.0f);
 }
 
-// 5. Resolve one tile: counting sort of its fragments by bin (private counters), depth sort per bin,
+// 4. Resolve one tile: counting sort of its fragments by bin (private counters), depth sort per bin,
 //    then the transfer: consecutive fragments exchange radiance. The side of a fragment facing
 //    -omega receives what the previous fragment sends along +omega, the other side what the next
 //    one sends along -omega; nothing in front: the (black) background.
 __kernel void rb_tile_resolve(__global const BundleElement* elements, __global const Material* materials,
-                              __global const uint* tile_start, __global const uint* tiled_slot,
-                              __global const uint* tiled_local, __global const float* tiled_depth,
-                              __global const uint* tiled_element, __global uint* tile_order,
-                              __global const float4* l_out, const BundleIteration it, const uint tiles,
-                              __global float4* received_minus, __global float4* received_plus) {
+                              __global const uint* tile_start, __global const uint* tiled_local,
+                              __global const float* tiled_depth, __global const uint* tiled_element,
+                              __global uint* tile_order, __global const float4* l_out, const BundleIteration it,
+                              const uint tiles, __global float4* received_minus, __global float4* received_plus,
+                              __global ulong* fragment_total) {
   uint tile = (uint)get_global_id(0);
+  if (tile == 0u) *fragment_total += tile_start[tiles];  // for the statistics, read back with the image sums
   if (tile >= tiles) return;
   uint begin = tile_start[tile], end = tile_start[tile + 1];
   if (begin == end) return;
@@ -233,7 +228,7 @@ __kernel void rb_tile_resolve(__global const BundleElement* elements, __global c
     uint minus_patch, plus_patch;
     sides_along(&elements[tiled_element[tile_order[first]]], omega, &minus_patch, &plus_patch);
     for (uint a = first; a < last; ++a) {
-      uint fragment = tile_order[a], slot = tiled_slot[fragment], element = tiled_element[fragment];
+      uint fragment = tile_order[a], element = tiled_element[fragment];
       float depth = tiled_depth[fragment];
       float3 n = bp_load3(elements[element].normal);
       for (uint c = 0; c < chains; ++c) {
@@ -243,7 +238,7 @@ __kernel void rb_tile_resolve(__global const BundleElement* elements, __global c
                                  depth - sender_depth, &it);
         else if (sender != BP_NO_PATCH && c != direct)
           r = l_out[sender * chains + c];
-        received_minus[slot * chains + c] = r;
+        received_minus[fragment * chains + c] = r;
       }
       const uint own_plus = plus_patch;
       sender = plus_patch;
@@ -265,20 +260,21 @@ __kernel void rb_tile_resolve(__global const BundleElement* elements, __global c
                                  next_depth - depth, &it);
         else if (next_minus != BP_NO_PATCH && c != direct)
           r = l_out[next_minus * chains + c];
-        received_plus[slot * chains + c] = r;
+        received_plus[fragment * chains + c] = r;
       }
     }
   }
 }
 
-// Sum over an element's fragments of one chain's received radiance. With with_p, .w becomes ln of the
-// mean P of the fragments that had a sender (the paper's area-weighted mean over senders).
-static float4 gather_chain(__global const float4* received, uint begin, uint end, uint chains, uint c, float scale,
-                           int with_p) {
+// Sum over an element's fragments (slots begin..end, resolved at tiled_at) of one chain's received
+// radiance. With with_p, .w becomes ln of the mean P of the fragments that had a sender (the paper's
+// area-weighted mean over senders).
+static float4 gather_chain(__global const float4* received, __global const uint* tiled_at, uint begin, uint end,
+                           uint chains, uint c, float scale, int with_p) {
   float3 sum = make_float3(0.0f, 0.0f, 0.0f);
   float log_p_sum = BP_LOG_ZERO, senders = 0.0f;
   for (uint s = begin; s < end; ++s) {
-    float4 r = received[s * chains + c];
+    float4 r = received[tiled_at[s] * chains + c];
     sum += make_float3(r.x, r.y, r.z);
     if (with_p && r.w > BP_NO_SENDER) {
       log_p_sum = log_add_exp(log_p_sum, r.w);  // log-sum-exp: P passes 1e38 on long glossy paths
@@ -289,25 +285,25 @@ static float4 gather_chain(__global const float4* received, uint begin, uint end
   return (float4)(sum.x, sum.y, sum.z, senders > 0.0f ? log_p_sum - log(senders) : 0.0f);
 }
 
-// 6. New incoming radiance per patch: transferred power over area. With n_bins covered,
+// 5. New incoming radiance per patch: transferred power over area. With n_bins covered,
 //    E[n_bins] = A |cos theta| / A_bin, so E_in = sum L_out * A_bin / A estimates L_in cos theta.
-__kernel void rb_gather(__global const BundleElement* elements, __global const uint* fragment_offsets,
-                        __global const uint* fragment_counts, __global const float4* received_minus,
-                        __global const float4* received_plus, const BundleIteration it, const uint count,
-                        __global float4* e_in) {
+__kernel void rb_gather(__global const BundleElement* elements, __global const uint* slot_start,
+                        __global const uint* fragment_counts, __global const uint* tiled_at,
+                        __global const float4* received_minus, __global const float4* received_plus,
+                        const BundleIteration it, const uint count, __global float4* e_in) {
   uint e = (uint)get_global_id(0);
   if (e >= count) return;
   __global const BundleElement* el = &elements[e];
-  uint begin = fragment_offsets[e], end = begin + fragment_counts[e];
+  uint begin = slot_start[e], end = begin + fragment_counts[e];
   float scale = it.bin_size * it.bin_size / el->area;
   uint minus_patch, plus_patch;
   sides_along(el, bp_private3(it.omega), &minus_patch, &plus_patch);
   const int with_p = it.weight_mode == BP_WEIGHTS_PAPER;
   for (uint c = 0; c < it.chains; ++c) {
     if (minus_patch != BP_NO_PATCH)
-      e_in[minus_patch * it.chains + c] = gather_chain(received_minus, begin, end, it.chains, c, scale, with_p);
+      e_in[minus_patch * it.chains + c] = gather_chain(received_minus, tiled_at, begin, end, it.chains, c, scale, with_p);
     if (plus_patch != BP_NO_PATCH)
-      e_in[plus_patch * it.chains + c] = gather_chain(received_plus, begin, end, it.chains, c, scale, with_p);
+      e_in[plus_patch * it.chains + c] = gather_chain(received_plus, tiled_at, begin, end, it.chains, c, scale, with_p);
   }
 }
 
@@ -371,7 +367,7 @@ static float4 eye_irradiance(const EyeHit* h, __global const float4* e_in, __glo
          e_vertex[pv[2] * chains + c] * h->l2;
 }
 
-// 7. Eye estimate of this iteration: the primary hit reflects its patch's incoming radiance towards
+// 6. Eye estimate of this iteration: the primary hit reflects its patch's incoming radiance towards
 //    the eye, Le + 2 pi f(w_in -> w_view) cos(theta_in) L_in, weighted as the mode says, added to the
 //    pixel's running sums (weighted, and raw when asked for).
 __kernel void rb_eye(__global const EyeHit* hits, __global const BundleElement* elements,

@@ -1,5 +1,6 @@
 #include "passes/ray_bundles.h"
 
+#include "kernels/shared/bundle_raster.h"
 #include "kernels/shared/frame.h"
 #include "kernels/shared/rng.h"
 
@@ -12,8 +13,10 @@ namespace {
 
 constexpr std::uint32_t kDirectionStream = 0x0b0d1e5u;  // RNG stream of the iteration directions
 constexpr std::uint32_t kLightSeedSalt = 0x119b7a11u;   // the per-patch light samples' seed: seed ^ salt
-// key, depth, element; their tiled copies with the slot and the tile order; 2 received radiances
-constexpr std::size_t kFragmentBytes = 3 * 4 + 5 * 4 + 2 * 16;
+// Per element slot (raster_fragment_bound of them per element): key, depth, where it was tiled.
+constexpr std::size_t kSlotBytes = 3 * 4;
+// Per tiled fragment: local bin, depth, element, tile order; then 2 received radiances per chain.
+std::size_t tiled_fragment_bytes(std::uint32_t chains) { return 4 * 4 + 2 * sizeof(cl_float4) * chains; }
 
 cl_uint as_uint(std::size_t v) { return cl_uint(v); }
 
@@ -32,8 +35,22 @@ double expected_fragments(const BundleSize& size, std::uint32_t bins) {
 }
 
 namespace {
-std::size_t fragment_allocation(const BundleSize& size, std::uint32_t bins) {
+// Fragments per iteration that a read-back capacity starts with (it grows when an iteration needs more).
+std::size_t dynamic_capacity(const BundleSize& size, std::uint32_t bins) {
   return std::size_t(1.5 * expected_fragments(size, bins)) + size.elements + 1024;
+}
+// Sum of raster_fragment_bound over the elements, from above (the bound's ceil adds at most 1 each).
+std::size_t slot_estimate(const BundleSize& size, std::uint32_t bins) {
+  const double bin_size = 2.0 * size.radius / bins;
+  return std::size_t(size.element_area / (bin_size * bin_size) * 1.0001 + size.element_perimeter / bin_size * 0.501) +
+         4 * size.elements;
+}
+bool static_tiled_capacity(std::size_t slots, std::uint32_t chains, std::size_t budget = kStaticTiledBytes) {
+  return slots * tiled_fragment_bytes(chains) <= budget;
+}
+std::size_t tiled_capacity(const BundleSize& size, std::uint32_t bins, std::uint32_t chains) {
+  const std::size_t slots = slot_estimate(size, bins);
+  return static_tiled_capacity(slots, chains) ? slots : dynamic_capacity(size, bins);
 }
 }  // namespace
 
@@ -50,8 +67,8 @@ std::uint32_t bundle_chains(const RayBundleSettings& settings) {
 
 std::size_t estimate_bundle_memory(const BundleSize& size, std::uint32_t bins, std::size_t pixels, std::uint32_t chains) {
   std::size_t tiles_per_side = bundle_tiles_per_side(bins + 1), tiles = tiles_per_side * tiles_per_side + 1;
-  return fragment_allocation(size, bins) * (kFragmentBytes + (chains - 1) * 2 * sizeof(cl_float4)) +
-         tiles * 3 * sizeof(cl_uint) + size.patches * (4 * sizeof(cl_uint) + 2 * chains * sizeof(cl_float4)) +
+  return slot_estimate(size, bins) * kSlotBytes + tiled_capacity(size, bins, chains) * tiled_fragment_bytes(chains) +
+         tiles * 2 * sizeof(cl_uint) + size.patches * (4 * sizeof(cl_uint) + 2 * chains * sizeof(cl_float4)) +
          size.elements * (sizeof(BundleElement) + 2 * sizeof(cl_uint)) +
          size.patches * 3 * (sizeof(cl_uint) + chains * sizeof(cl_float4)) +  // Gouraud vertices (at most 3 per patch)
          pixels * (sizeof(EyeHit) + 2 * sizeof(cl_float4));
@@ -60,7 +77,8 @@ std::size_t estimate_bundle_memory(const BundleSize& size, std::uint32_t bins, s
 void check_bundle_memory(const DeviceInfo& device, const BundleSize& size, std::uint32_t bins, std::size_t pixels,
                          std::uint32_t chains) {
   const std::size_t need = estimate_bundle_memory(size, bins, pixels, chains);
-  const std::size_t largest = fragment_allocation(size, bins) * chains * sizeof(cl_float4);
+  const std::size_t largest = std::max(tiled_capacity(size, bins, chains) * chains * sizeof(cl_float4),
+                                       slot_estimate(size, bins) * sizeof(cl_uint));
   // Leave a quarter of the device for the scene, the path tracer and the driver.
   if (need > device.global_memory_bytes / 4 * 3 || largest > device.max_alloc_bytes)
     throw std::invalid_argument(
@@ -80,9 +98,7 @@ RayBundlePass::RayBundlePass(const DeviceContext& device, const DeviceScene& sce
       chains_(bundle_chains(settings)),
       eye_outputs_(settings.keep_raw ? 2u : 1u),
       camera_(camera),
-      bins_(settings.bins ? settings.bins : default_bins(BundleSize{geometry.elements.size(),
-                                                                     geometry.patch_element.size(),
-                                                                     geometry.element_area, geometry.radius})),
+      bins_(settings.bins ? settings.bins : default_bins(bundle_size(geometry))),
       element_count_(geometry.elements.size()),
       patch_count_(geometry.patch_element.size()),
       pixel_count_(std::size_t(camera.width) * camera.height),
@@ -94,9 +110,7 @@ RayBundlePass::RayBundlePass(const DeviceContext& device, const DeviceScene& sce
       scan_(device, program_.program) {
   const cl::Program& p = program_.program;
   outgoing_ = cl::Kernel(p, "rb_outgoing");
-  count_ = cl::Kernel(p, "rb_count");
   emit_ = cl::Kernel(p, "rb_emit");
-  tile_count_kernel_ = cl::Kernel(p, "rb_tile_count");
   tile_scatter_ = cl::Kernel(p, "rb_tile_scatter");
   tile_resolve_ = cl::Kernel(p, "rb_tile_resolve");
   gather_ = cl::Kernel(p, "rb_gather");
@@ -114,29 +128,42 @@ RayBundlePass::RayBundlePass(const DeviceContext& device, const DeviceScene& sce
   e_in_ = make_buffer(device, "patch irradiance", CL_MEM_READ_WRITE, patch_count_ * chains_ * sizeof(cl_float4));
   l_out_ =
       make_buffer(device, "patch outgoing radiance", CL_MEM_READ_WRITE, patch_count_ * chains_ * sizeof(cl_float4));
+  // Each element rasterizes into slots of its own, as many as it can ever cover.
+  const float bin_size = 2.0f * radius_ / float(bins_);
+  std::vector<cl_uint> slot_start(element_count_ + 1, 0u);
+  for (std::size_t e = 0; e < element_count_; ++e) {
+    const BundleElement& el = geometry.elements[e];
+    const glm::vec3 e1(el.e1[0], el.e1[1], el.e1[2]), e2(el.e2[0], el.e2[1], el.e2[2]);
+    const float perimeter = glm::length(e1) + glm::length(e2) + glm::length(e2 - e1);
+    const std::size_t next = std::size_t(slot_start[e]) + raster_fragment_bound(el.area, perimeter, bin_size);
+    if (next > 0xffffffffu) throw std::invalid_argument("the ray-bundle pass would need more than 2^32 fragment "
+                                                        "slots: lower --bins or raise --patch-size");
+    slot_start[e + 1] = cl_uint(next);
+  }
+  slot_count_ = slot_start.back();
+  static_capacity_ = static_tiled_capacity(slot_count_, chains_, settings.static_tiled_bytes);
+  slot_start_ = upload_buffer(device, "fragment slot starts", slot_start);
   fragment_counts_ = make_buffer(device, "fragment counts", CL_MEM_READ_WRITE, element_count_ * sizeof(cl_uint));
-  fragment_offsets_ =
-      make_buffer(device, "fragment offsets", CL_MEM_READ_WRITE, (element_count_ + 1) * sizeof(cl_uint));
+  fragment_key_ = make_buffer(device, "fragment keys", CL_MEM_READ_WRITE, slot_count_ * sizeof(cl_uint));
+  fragment_depth_ = make_buffer(device, "fragment depths", CL_MEM_READ_WRITE, slot_count_ * sizeof(cl_float));
+  tiled_at_ = make_buffer(device, "fragment places in their tiles", CL_MEM_READ_WRITE, slot_count_ * sizeof(cl_uint));
   tile_counts_ = make_buffer(device, "tile counts", CL_MEM_READ_WRITE, tile_count_ * sizeof(cl_uint));
   tile_start_ = make_buffer(device, "tile starts", CL_MEM_READ_WRITE, (tile_count_ + 1) * sizeof(cl_uint));
-  tile_cursor_ = make_buffer(device, "tile cursors", CL_MEM_READ_WRITE, (tile_count_ + 1) * sizeof(cl_uint));
+  fragment_total_ = make_buffer(device, "fragment total", CL_MEM_READ_WRITE, sizeof(cl_ulong));
+  device.queue.enqueueFillBuffer(tile_counts_, cl_uint(0), 0, tile_count_ * sizeof(cl_uint));
+  device.queue.enqueueFillBuffer(fragment_total_, cl_ulong(0), 0, sizeof(cl_ulong));
   eye_hits_buffer_ = make_buffer(device, "eye hits", CL_MEM_READ_WRITE, pixel_count_ * sizeof(EyeHit));
   pixel_sum_ =
       make_buffer(device, "eye estimate sums", CL_MEM_READ_WRITE, pixel_count_ * eye_outputs_ * sizeof(cl_float4));
   device.queue.enqueueFillBuffer(e_in_, cl_float4{{0, 0, 0, 0}}, 0, patch_count_ * chains_ * sizeof(cl_float4));
   device.queue.enqueueFillBuffer(pixel_sum_, cl_float4{{0, 0, 0, 0}}, 0, pixel_count_ * eye_outputs_ * sizeof(cl_float4));
-  ensure_fragment_capacity(fragment_allocation(
-      BundleSize{element_count_, patch_count_, geometry.element_area, geometry.radius}, bins_));
+  ensure_fragment_capacity(static_capacity_ ? slot_count_ : dynamic_capacity(bundle_size(geometry), bins_));
   host_pixel_sum_.resize(pixel_count_ * eye_outputs_);
 }
 
 void RayBundlePass::ensure_fragment_capacity(std::size_t fragments) {
   if (fragments <= fragment_capacity_) return;
   std::size_t n = std::max(fragments, fragment_capacity_ + fragment_capacity_ / 4);
-  fragment_key_ = make_buffer(device_, "fragment keys", CL_MEM_READ_WRITE, n * sizeof(cl_uint));
-  fragment_depth_ = make_buffer(device_, "fragment depths", CL_MEM_READ_WRITE, n * sizeof(cl_float));
-  fragment_element_ = make_buffer(device_, "fragment elements", CL_MEM_READ_WRITE, n * sizeof(cl_uint));
-  tiled_slot_ = make_buffer(device_, "tiled fragment slots", CL_MEM_READ_WRITE, n * sizeof(cl_uint));
   tiled_local_ = make_buffer(device_, "tiled fragment bins", CL_MEM_READ_WRITE, n * sizeof(cl_uint));
   tiled_depth_ = make_buffer(device_, "tiled fragment depths", CL_MEM_READ_WRITE, n * sizeof(cl_float));
   tiled_element_ = make_buffer(device_, "tiled fragment elements", CL_MEM_READ_WRITE, n * sizeof(cl_uint));
@@ -187,7 +214,7 @@ BundleIteration RayBundlePass::iteration_params(std::uint64_t iteration) const {
   return it;
 }
 
-std::uint64_t RayBundlePass::iterate(std::uint64_t iteration) {
+void RayBundlePass::iterate(std::uint64_t iteration) {
   const BundleIteration it = iteration_params(iteration);
   const cl_uint patches = as_uint(patch_count_), elements = as_uint(element_count_);
   set_args(outgoing_, elements_, patch_element_, scene_.materials, e_in_, it, patches, l_out_, scene_.nodes,
@@ -195,42 +222,35 @@ std::uint64_t RayBundlePass::iterate(std::uint64_t iteration) {
            cl_uint(iteration), scene_.ray_epsilon);
   launcher_.launch("rb_outgoing", outgoing_, patch_count_, 64);
 
-  set_args(count_, elements_, it, elements, fragment_counts_);
-  launcher_.launch("rb_count", count_, element_count_, 64);
-  scan_.exclusive(launcher_, fragment_counts_, element_count_, fragment_offsets_);
-  cl_uint fragments = 0;
-  device_.queue.enqueueReadBuffer(fragment_offsets_, CL_TRUE, element_count_ * sizeof(cl_uint), sizeof(cl_uint),
-                                  &fragments);
-  ensure_fragment_capacity(fragments);
-  set_args(emit_, elements_, it, elements, fragment_offsets_, fragment_key_, fragment_depth_, fragment_element_);
+  set_args(emit_, elements_, it, elements, slot_start_, fragment_counts_, fragment_key_, fragment_depth_, tile_counts_);
   launcher_.launch("rb_emit", emit_, element_count_, 64);
-
-  device_.queue.enqueueFillBuffer(tile_counts_, cl_uint(0), 0, tile_count_ * sizeof(cl_uint));
-  set_args(tile_count_kernel_, fragment_key_, fragments, tile_counts_);
-  launcher_.launch("rb_tile_count", tile_count_kernel_, fragments, 64);
   scan_.exclusive(launcher_, tile_counts_, tile_count_, tile_start_);
-  device_.queue.enqueueCopyBuffer(tile_start_, tile_cursor_, 0, 0, (tile_count_ + 1) * sizeof(cl_uint));
-  set_args(tile_scatter_, fragment_key_, fragment_depth_, fragment_element_, fragments, tile_cursor_, tiled_slot_,
-           tiled_local_, tiled_depth_, tiled_element_);
-  launcher_.launch("rb_tile_scatter", tile_scatter_, fragments, 64);
-  set_args(tile_resolve_, elements_, scene_.materials, tile_start_, tiled_slot_, tiled_local_, tiled_depth_, tiled_element_, tile_order_,
-           l_out_, it, as_uint(tile_count_), received_minus_, received_plus_);
+  if (!static_capacity_) {  // the tiled buffers hold what this iteration needs, not every slot: check
+    cl_uint fragments = 0;
+    device_.queue.enqueueReadBuffer(tile_start_, CL_TRUE, tile_count_ * sizeof(cl_uint), sizeof(cl_uint), &fragments);
+    ensure_fragment_capacity(fragments);
+  }
+  set_args(tile_scatter_, slot_start_, fragment_counts_, fragment_key_, fragment_depth_, elements, tile_start_,
+           tile_counts_, tiled_at_, tiled_local_, tiled_depth_, tiled_element_);
+  launcher_.launch("rb_tile_scatter", tile_scatter_, element_count_, 64);
+  set_args(tile_resolve_, elements_, scene_.materials, tile_start_, tiled_local_, tiled_depth_, tiled_element_,
+           tile_order_, l_out_, it, as_uint(tile_count_), received_minus_, received_plus_, fragment_total_);
   launcher_.launch("rb_tile_resolve", tile_resolve_, tile_count_, 8);
 
-  set_args(gather_, elements_, fragment_offsets_, fragment_counts_, received_minus_, received_plus_, it, elements, e_in_);
+  set_args(gather_, elements_, slot_start_, fragment_counts_, tiled_at_, received_minus_, received_plus_, it, elements,
+           e_in_);
   launcher_.launch("rb_gather", gather_, element_count_, 64);
-  return fragments;
 }
 
 BatchCounts RayBundlePass::run(std::uint64_t first, std::uint32_t count) {
   BatchCounts counts;
   if (!warmed_up_) {
-    for (std::uint32_t w = 0; w < settings_.warmup; ++w) counts.fragments += iterate(w);
+    for (std::uint32_t w = 0; w < settings_.warmup; ++w) iterate(w);
     warmed_up_ = true;
   }
   for (std::uint32_t k = 0; k < count; ++k) {
     const std::uint64_t iteration = settings_.warmup + first + k;
-    counts.fragments += iterate(iteration);
+    iterate(iteration);
     if (eye_rounds_ % settings_.jitter_refresh == 0) {
       trace_eye_hits(eye_rounds_ / settings_.jitter_refresh);
       counts.rays += pixel_count_;
@@ -261,6 +281,10 @@ void RayBundlePass::flush_pixel_sums(BatchCounts& counts) {
   const std::size_t bytes = host_pixel_sum_.size() * sizeof(cl_float4);
   device_.queue.enqueueReadBuffer(pixel_sum_, CL_TRUE, 0, bytes, host_pixel_sum_.data());
   device_.queue.enqueueFillBuffer(pixel_sum_, cl_float4{{0, 0, 0, 0}}, 0, bytes);
+  cl_ulong fragments = 0;
+  device_.queue.enqueueReadBuffer(fragment_total_, CL_TRUE, 0, sizeof(cl_ulong), &fragments);
+  device_.queue.enqueueFillBuffer(fragment_total_, cl_ulong(0), 0, sizeof(cl_ulong));
+  counts.fragments += fragments;
   for (std::size_t i = 0; i < pixel_count_; ++i) {
     const cl_float4& w = host_pixel_sum_[i * eye_outputs_];
     const cl_float4& raw = host_pixel_sum_[i * eye_outputs_ + eye_outputs_ - 1];

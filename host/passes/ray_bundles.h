@@ -13,6 +13,11 @@
 
 namespace bp {
 
+// Tiled fragment buffers are sized for every fragment slot when that costs at most this much: no
+// iteration then waits for the host to read its fragment count (on small scenes the sync costs more
+// than the memory). Larger scenes read the count back and grow the buffers when needed.
+constexpr std::size_t kStaticTiledBytes = std::size_t(64) << 20;
+
 struct RayBundleSettings {
   std::uint32_t seed = 1;
   std::uint32_t bins = 0;             // R: bins per side of the transillumination buffer; 0 = default_bins
@@ -25,6 +30,7 @@ struct RayBundleSettings {
   bool light_sampling = false;        // per-patch light samples and per-fragment weighted direct light
                                       // (DESIGN.md §3); product weights only, where the scene has lights
   std::string kernel_options;         // feature switches (device/kernel_features.h); empty: generic
+  std::size_t static_tiled_bytes = kStaticTiledBytes;
 };
 
 // Bins per side so that an element of average area covers `bins_per_element` bins on average
@@ -63,7 +69,7 @@ class RayBundlePass : public ProgressivePass {
   std::uint32_t pixel_height() const { return camera_.height; }
 
   // One iteration without an eye estimate (the warm-up, and tests that read patch radiance).
-  std::uint64_t iterate(std::uint64_t iteration);
+  void iterate(std::uint64_t iteration);
   // E_in = L_in cos(theta_in) of every patch after the last iteration (RGBA; `chains` per patch).
   std::vector<cl_float4> read_patch_irradiance();
   // L_out of every patch in the last iteration, and the bins each element covered (for tests).
@@ -85,7 +91,8 @@ class RayBundlePass : public ProgressivePass {
  private:
   void ensure_fragment_capacity(std::size_t fragments);
   void trace_eye_hits(std::uint64_t jitter_index);
-  // Adds the device's float sums of eye estimates into the accumulator (double) and clears them.
+  // Adds the device's float sums of eye estimates into the accumulator (double) and clears them;
+  // the fragment count since the last flush too.
   void flush_pixel_sums(BatchCounts& counts);
 
   const DeviceContext& device_;
@@ -101,13 +108,17 @@ class RayBundlePass : public ProgressivePass {
   BuiltProgram program_;
   Launcher launcher_;
   DeviceScan scan_;
-  cl::Kernel outgoing_, count_, emit_, tile_count_kernel_, tile_scatter_, tile_resolve_, gather_, eye_hits_, vertex_, eye_;
-  cl::Buffer elements_, patch_element_, e_in_, l_out_, fragment_counts_, fragment_offsets_;
+  cl::Kernel outgoing_, emit_, tile_scatter_, tile_resolve_, gather_, eye_hits_, vertex_, eye_;
+  cl::Buffer elements_, patch_element_, e_in_, l_out_;
+  // Fragments in per-element slots (slot_start: raster_fragment_bound of them per element).
+  cl::Buffer slot_start_, fragment_counts_, fragment_key_, fragment_depth_, tiled_at_, fragment_total_;
+  std::size_t slot_count_ = 0;
+  bool static_capacity_ = false;  // the tiled buffers hold every slot (else: read back and grow)
   cl::Buffer patch_vertices_, vertex_patch_start_, vertex_patches_, e_vertex_;
   std::size_t vertex_count_;
-  cl::Buffer tile_counts_, tile_start_, tile_cursor_, eye_hits_buffer_, pixel_sum_;
-  cl::Buffer fragment_key_, fragment_depth_, fragment_element_, received_minus_, received_plus_;
-  cl::Buffer tiled_slot_, tiled_local_, tiled_depth_, tiled_element_, tile_order_;
+  cl::Buffer tile_counts_, tile_start_, eye_hits_buffer_, pixel_sum_;
+  cl::Buffer received_minus_, received_plus_;
+  cl::Buffer tiled_local_, tiled_depth_, tiled_element_, tile_order_;
   std::size_t fragment_capacity_ = 0;
   bool warmed_up_ = false;
   std::uint64_t eye_rounds_ = 0;  // eye estimates so far (drives the jitter refresh)

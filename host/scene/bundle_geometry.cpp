@@ -70,9 +70,18 @@ BundleSize bundle_size(const Scene& scene, const PatchLayout& patches) {
     const SceneTriangle& tri = scene.triangles[t];
     size.elements += std::size_t(patches.subdiv[t]) * patches.subdiv[t];
     size.element_area += 0.5 * double(glm::length(glm::cross(tri.p[1] - tri.p[0], tri.p[2] - tri.p[0])));
+    // k^2 congruent sub-triangles, each with 1/k of the triangle's perimeter
+    size.element_perimeter += double(patches.subdiv[t]) * (double(glm::length(tri.p[1] - tri.p[0])) +
+                                                            glm::length(tri.p[2] - tri.p[1]) +
+                                                            glm::length(tri.p[0] - tri.p[2]));
   }
   size.radius = bounding_radius(scene);
   return size;
+}
+
+BundleSize bundle_size(const BundleGeometry& geometry) {
+  return BundleSize{geometry.elements.size(), geometry.patch_element.size(), geometry.element_area,
+                    geometry.element_perimeter, geometry.radius};
 }
 
 BundleGeometry build_bundle_geometry(const Scene& scene, const PatchLayout& patches) {
@@ -115,6 +124,7 @@ BundleGeometry build_bundle_geometry(const Scene& scene, const PatchLayout& patc
       g.patch_element[el.front_patch] = index;
       if (double_sided) g.patch_element[el.back_patch] = index | kBackSidePatch;
       g.element_area += el.area;
+      g.element_perimeter += double(glm::length(d1)) + glm::length(d2) + glm::length(d2 - d1);
     }
   }
   weld_vertices(scene, g);

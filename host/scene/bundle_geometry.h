@@ -22,6 +22,7 @@ struct BundleGeometry {
   std::vector<std::uint32_t> vertex_patch_start;  // CSR: patches of vertex v are
   std::vector<std::uint32_t> vertex_patches;      //   vertex_patches[vertex_patch_start[v] .. [v+1])
   double element_area = 0.0;                 // sum of element areas (each surface counted once), m^2
+  double element_perimeter = 0.0;            // sum of element perimeters, m
   glm::vec3 centre{0.0f};                    // bounding sphere of the scene
   float radius = 0.0f;
 };
@@ -31,9 +32,11 @@ struct BundleGeometry {
 struct BundleSize {
   std::size_t elements = 0, patches = 0;
   double element_area = 0.0;  // m^2, each surface once
+  double element_perimeter = 0.0;  // m, sum over elements (what bounds the fragments one can cover)
   float radius = 0.0f;        // of the scene's bounding sphere
 };
 BundleSize bundle_size(const Scene& scene, const PatchLayout& patches);
+BundleSize bundle_size(const BundleGeometry& geometry);  // the same numbers, from the built geometry
 
 BundleGeometry build_bundle_geometry(const Scene& scene, const PatchLayout& patches);
 

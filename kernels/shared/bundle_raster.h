@@ -90,4 +90,15 @@ BP_FN bp_u32 raster_count(const RasterElement* r) {
   return covered;
 }
 
+// Most bins an element of `area` (m^2) and `perimeter` (m) can cover, for any direction and any grid
+// offset, so that it can rasterize into slots of its own without counting first: a closed convex set
+// of area A and perimeter P holds fewer than A + P/2 + 1 lattice points (Bokowski, Hadwiger and
+// Wills, 1972), here in bin units; a projection only shrinks A and P. The margin covers centres that
+// float edge functions let in within rounding of an edge (an inflated triangle: a few 1e-4 bins at
+// 4096 bins). Host only, for the slot layout (and its test).
+BP_FN bp_u32 raster_fragment_bound(float area, float perimeter, float bin_size) {
+  float a = area / (bin_size * bin_size), p = perimeter / bin_size;
+  return (bp_u32)ceil(a * 1.0001f + p * 0.501f + 3.0f);
+}
+
 #endif  // BP_SHARED_BUNDLE_RASTER_H

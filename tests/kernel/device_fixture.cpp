@@ -35,7 +35,8 @@ RenderRun render_pt(const Scene& scene, int width, int height, std::uint64_t spp
 }
 
 std::unique_ptr<BundleRig> make_bundle_rig(const Scene& scene, float patch_size, std::uint32_t bins,
-                                           std::uint32_t seed, int width, int height, std::uint32_t warmup) {
+                                           std::uint32_t seed, int width, int height, std::uint32_t warmup,
+                                           std::size_t static_tiled_bytes) {
   auto rig = std::make_unique<BundleRig>();
   rig->scene = scene;
   rig->patches = build_patch_layout(rig->scene, patch_size);
@@ -46,6 +47,7 @@ std::unique_ptr<BundleRig> make_bundle_rig(const Scene& scene, float patch_size,
   settings.seed = seed;
   settings.bins = bins;
   settings.warmup = warmup;
+  settings.static_tiled_bytes = static_tiled_bytes;
   rig->accum = Accumulator(width, height);
   rig->pass = std::make_unique<RayBundlePass>(test_device(), *rig->device_scene, rig->geometry,
                                               pack_camera(rig->scene.camera, width, height), settings, rig->accum);

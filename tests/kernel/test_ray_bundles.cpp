@@ -90,6 +90,30 @@ TEST(RayBundleAnalytic, ClosedSceneReceivesExactlyThePowerThatLeaves) {
   }
 }
 
+// Small scenes size the tiled fragment buffers for every slot; large ones read each iteration's
+// fragment count back and grow them (here from the first iteration on): both give the same radiance.
+TEST(RayBundlePass, ReadBackFragmentBuffersGiveTheSameRadianceAsStaticOnes) {
+  SceneMaterial m;
+  m.kd = glm::vec3(0.5f);
+  m.emission = glm::vec3(0.2f, 0.4f, 0.6f);
+  const Scene scene = make_closed_box(1.0f, m);
+  auto fixed = make_bundle_rig(scene, 0.2f, 48, 3u);
+  auto grown = make_bundle_rig(scene, 0.2f, 48, 3u, 8, 8, 0, 0);
+  for (int t = 0; t < 12; ++t) {
+    fixed->pass->iterate(std::uint64_t(t));
+    grown->pass->iterate(std::uint64_t(t));
+  }
+  const std::vector<cl_float4> a = fixed->pass->read_patch_irradiance(), b = grown->pass->read_patch_irradiance();
+  ASSERT_EQ(a.size(), b.size());
+  double total = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    for (int c = 0; c < 4; ++c) {
+      EXPECT_EQ(a[i].s[c], b[i].s[c]) << "patch " << i;
+      total += a[i].s[c];
+    }
+  EXPECT_GT(total, 0.0);
+}
+
 // Closed box, every surface emitting Le with Lambert albedo a: every pixel of the eye estimate
 // converges to Le / (1 - a). Independent seeds give the standard error (iterations of one run are
 // correlated); the warm-up leaves a^W of the answer missing, negligible here.

@@ -107,5 +107,77 @@ TEST(BundleRaster, ExpectedCoverageIsProjectedAreaOverBinArea) {
   }
 }
 
+// Elements rasterize into raster_fragment_bound slots of their own: no direction or grid offset may
+// give more. Shapes from round to slivers (the perimeter term matters), sizes from a hundredth of a
+// bin to thousands of bins, grids up to 4096 bins (float rounding at the edges).
+TEST(BundleRaster, NoElementCoversMoreBinsThanItsBound) {
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<float> u(0, 1);
+  for (int trial = 0; trial < 20000; ++trial) {
+    const std::uint32_t bins = trial % 4 == 0 ? 4096u : 8u + std::uint32_t(200 * u(rng));
+    const float bin_size = 2.0f / float(bins), size = bin_size * std::exp(std::log(0.01f) + u(rng) * std::log(3e5f));
+    BundleElement e = random_element(rng, std::min(size, 1.0f));
+    if (trial % 3 == 0) {  // a sliver: e2 nearly along e1
+      float3 a = bp_load3(e.e1), b = a * (0.2f + 0.8f * u(rng)) + random_unit(rng) * (length(a) * 1e-3f * u(rng));
+      e.e2[0] = b.x; e.e2[1] = b.y; e.e2[2] = b.z;
+      e.area = 0.5f * length(cross(a, b));
+    }
+    const float3 e1 = bp_load3(e.e1), e2 = bp_load3(e.e2);
+    const float perimeter = length(e1) + length(e2) + length(e2 - e1);
+    const std::uint32_t bound = raster_fragment_bound(e.area, perimeter, bin_size);
+    for (int k = 0; k < 4; ++k) {
+      BundleIteration it = grid(random_unit(rng), 6.28f * u(rng), u(rng), u(rng), bins, 1.0f);
+      RasterElement r = raster_setup(&e, &it);
+      const std::uint32_t covered = raster_count(&r);
+      ASSERT_LE(covered, bound) << "trial " << trial << ": area " << e.area / (bin_size * bin_size)
+                                << " bins, perimeter " << perimeter / bin_size << " bins";
+    }
+  }
+}
+
+// The cases that come closest to the bound: the element faces omega and its corners sit on bin
+// centres (a hair outside them, so that every centre on an edge counts), legs along the grid axes
+// or not. Pick's theorem then gives A + B/2 + 1 covered bins, B the centres on the boundary.
+TEST(BundleRaster, LatticeTrianglesFacingTheGridStayWithinTheBound) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(0, 1);
+  const std::uint32_t bins = 256;
+  std::uint32_t worst_slack = ~0u;
+  for (int trial = 0; trial < 3000; ++trial) {
+    float3 omega = random_unit(rng);
+    BundleIteration it = grid(omega, 6.28f * u(rng), u(rng), u(rng), bins, 1.0f);
+    const float h = it.bin_size, half = 0.5f * float(bins);
+    const float3 ax = bp_private3(it.axis_u), ay = bp_private3(it.axis_v);
+    auto point = [&](float x, float y) {  // the point whose projection is (x, y) in bin units
+      return ax * ((x - half - it.offset_u) * h) + ay * ((y - half - it.offset_v) * h);
+    };
+    const int i0 = 20 + int(100 * u(rng)), j0 = 20 + int(100 * u(rng));
+    const int a = 1 + int(60 * u(rng)), b = trial % 2 ? 1 + int(60 * u(rng)) : 0, c = 1 + int(60 * u(rng));
+    // corners (i0, j0), (i0 + a, j0 + b), (i0, j0 + c) at bin centres, pushed 1e-3 bins away from the centroid
+    float px[3] = {float(i0), float(i0 + a), float(i0)}, py[3] = {float(j0), float(j0 + b), float(j0 + c)};
+    const float cx = (px[0] + px[1] + px[2]) / 3.0f, cy = (py[0] + py[1] + py[2]) / 3.0f;
+    float3 corner[3];
+    for (int k = 0; k < 3; ++k) {
+      const float dx = px[k] - cx, dy = py[k] - cy, d = std::sqrt(dx * dx + dy * dy);
+      corner[k] = point(px[k] + 0.5f + 1e-3f * dx / d, py[k] + 0.5f + 1e-3f * dy / d);
+    }
+    BundleElement e{};
+    const float3 e1 = corner[1] - corner[0], e2 = corner[2] - corner[0];
+    for (int k = 0; k < 3; ++k) {
+      e.v0[k] = (&corner[0].x)[k];
+      e.e1[k] = (&e1.x)[k];
+      e.e2[k] = (&e2.x)[k];
+    }
+    e.area = 0.5f * length(cross(e1, e2));
+    const float perimeter = length(e1) + length(e2) + length(e2 - e1);
+    const std::uint32_t bound = raster_fragment_bound(e.area, perimeter, h);
+    RasterElement r = raster_setup(&e, &it);
+    const std::uint32_t covered = raster_count(&r);
+    ASSERT_LE(covered, bound) << "trial " << trial << ": legs " << a << ", " << b << ", " << c;
+    worst_slack = std::min(worst_slack, bound - covered);
+  }
+  EXPECT_LE(worst_slack, 4u);  // the bound is as tight as its margin: a bound 1 bin lower would fail
+}
+
 }  // namespace
 }  // namespace bp
