@@ -114,7 +114,7 @@ __kernel void rb_emit(__global const BundleElement* elements, const BundleIterat
   if (e >= count) return;
   RasterElement r = raster_setup(&elements[e], &it);
   const uint begin = slot_start[e], end = slot_start[e + 1];
-  uint slot = begin;
+  uint slot = begin, tile = 0u, in_tile = 0u;  // a run of fragments in one tile: one atomic for the run
   for (int j = r.j0; j <= r.j1 && slot < end; ++j) {
     int first, last;
     raster_row_span(&r, j, &first, &last);
@@ -122,10 +122,16 @@ __kernel void rb_emit(__global const BundleElement* elements, const BundleIterat
       uint key = bundle_tile_key((uint)i, (uint)j, it.bins_per_side);
       fragment_key[slot] = key;
       fragment_depth[slot] = raster_depth(&r, i, j);
-      atomic_inc(&tile_counts[key >> BP_TILE_LOCAL_BITS]);
+      if (key >> BP_TILE_LOCAL_BITS != tile && in_tile > 0u) {
+        atomic_add(&tile_counts[tile], in_tile);
+        in_tile = 0u;
+      }
+      tile = key >> BP_TILE_LOCAL_BITS;
+      ++in_tile;
       ++slot;
     }
   }
+  if (in_tile > 0u) atomic_add(&tile_counts[tile], in_tile);
   fragment_counts[e] = slot - begin;
 }
 
