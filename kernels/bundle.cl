@@ -138,7 +138,7 @@ __kernel void rb_emit(__global const BundleElement* elements, const BundleIterat
 // 3. Counting sort by tile, after the scan of the tile counts: each element places its fragments in
 //    their tiles' ranges, with depth, element and local bin next to the tile's other fragments so a
 //    tile is resolved from one contiguous range, and remembers where each went (tiled_at). Taking the
-//    places by counting the tile counts down to 0 leaves them cleared for the next iteration's emit.
+//    places by counting the tile counts down leaves them at 0 for the next iteration's emit.
 __kernel void rb_tile_scatter(__global const uint* slot_start, __global const uint* fragment_counts,
                               __global const uint* fragment_key, __global const float* fragment_depth,
                               const uint count, __global const uint* tile_start, __global uint* tile_counts,
@@ -147,13 +147,18 @@ __kernel void rb_tile_scatter(__global const uint* slot_start, __global const ui
   uint e = (uint)get_global_id(0);
   if (e >= count) return;
   const uint begin = slot_start[e], end = begin + fragment_counts[e];
-  for (uint s = begin; s < end; ++s) {
-    uint key = fragment_key[s], tile = key >> BP_TILE_LOCAL_BITS;
-    uint at = tile_start[tile] + atomic_dec(&tile_counts[tile]) - 1u;
-    tiled_at[s] = at;
-    tiled_local[at] = key & (BP_TILE_BINS - 1u);
-    tiled_depth[at] = fragment_depth[s];
-    tiled_element[at] = e;
+  for (uint run = begin; run < end;) {  // a run of fragments in one tile takes its places with one atomic
+    const uint tile = fragment_key[run] >> BP_TILE_LOCAL_BITS;
+    uint run_end = run + 1u;
+    while (run_end < end && fragment_key[run_end] >> BP_TILE_LOCAL_BITS == tile) ++run_end;
+    uint at = tile_start[tile] + atomic_sub(&tile_counts[tile], run_end - run) - (run_end - run);
+    for (uint s = run; s < run_end; ++s, ++at) {
+      tiled_at[s] = at;
+      tiled_local[at] = fragment_key[s] & (BP_TILE_BINS - 1u);
+      tiled_depth[at] = fragment_depth[s];
+      tiled_element[at] = e;
+    }
+    run = run_end;
   }
 }
 
