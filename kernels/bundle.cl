@@ -84,7 +84,8 @@ __kernel void rb_outgoing(__global const BundleElement* elements, __global const
     float3 reflected = transfer * make_float3(e.x, e.y, e.z);
     float3 emitted = bsdf.emission;
     float w = 0.0f;
-    if (c == 0 && it.weight_mode == BP_WEIGHTS_PRODUCT) reflected *= vertex_beta(bsdf.continuation, v.pdf_uv, it.weight_ratio);
+    if (c == 0 && it.weight_mode == BP_WEIGHTS_PRODUCT)
+      reflected *= vertex_beta(bsdf.continuation, v.pdf_uv, it.weight_ratio, it.beta_heuristic);
     if (c == 0 && it.weight_mode == BP_WEIGHTS_PAPER)
       w = paper_log_pstar_step(bsdf.continuation, v.pdf_uv, e.w);  // (10)
     if (c == 0 && light_sampling) {
@@ -404,7 +405,7 @@ __kernel void rb_eye(__global const EyeHit* hits, __global const BundleElement* 
     // chain 0 already carries prod beta of the earlier vertices; the eye vertex adds its own.
     // With light sampling the eye vertex's emission, like its direct light, is PT's alone.
     weighted = (BP_FEATURE_LIGHT_SAMPLING && it.light_count > 0u ? make_float3(0.0f, 0.0f, 0.0f) : bsdf.emission) +
-               reflected0 * vertex_beta(bsdf.continuation, v.pdf_uv, it.weight_ratio);
+               reflected0 * vertex_beta(bsdf.continuation, v.pdf_uv, it.weight_ratio, it.beta_heuristic);
   } else if (it.weight_mode == BP_WEIGHTS_PAPER) {
     float log_pstar = paper_log_pstar_step(bsdf.continuation, v.pdf_uv, e0.w);  // (10) at the eye vertex
     weighted = bsdf.emission * paper_rb_weight(0.0f, it.weight_ratio) +  // the emitter seen directly: P = 1

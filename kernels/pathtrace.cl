@@ -116,7 +116,8 @@ static PathRadiance trace_path(const SceneRefs* scene, const PathTraceParams* pa
     // Only the weights of the mode need the pdf state: q and r for paper, prod beta for product.
     if (params->weight_mode == BP_WEIGHTS_PAPER) path_pdf_step(&pdf, bsdf.continuation, sample.pdf_uv);
     if (params->weight_mode == BP_WEIGHTS_PRODUCT)
-      path_pdf_multiply_beta(&pdf, vertex_beta(bsdf.continuation, sample.pdf_uv, params->weight_ratio));
+      path_pdf_multiply_beta(
+          &pdf, vertex_beta(bsdf.continuation, sample.pdf_uv, params->weight_ratio, params->beta_heuristic));
     origin = surface.position + surface.normal * params->ray_epsilon;
     dir = sample.wi;
   }

@@ -59,6 +59,9 @@ options (defaults in brackets):
                       (both, weighted per path so the sum stays unbiased)      [pt]
   --weights W         combined: product (exact per-vertex weights), paper (the paper's
                       eq. 9/10 weights, one P per patch), none (plain sum: double counts)  [product]
+  --beta B            product weights: the per-vertex factor of w_RB = prod beta, from PT's
+                      density P of the vertex's direction: clamped, min(1, N2/(N1 P)), or
+                      balance, N2/(N2 + N1 P) (the paper's one-step weight)  [clamped]
   --ratio C           combined: PT samples per pixel per RB iteration         [1/4]
                       0: ray bundles alone (w_RB = 1; count with --iterations or --time)
   --no-light-sampling turn light sampling off: emitters are then reached by BSDF sampling (pt)
@@ -121,6 +124,11 @@ RenderOptions parse_render_options(const std::vector<std::string>& args) {
          if (v != "product" && v != "paper" && v != "none")
            throw UsageError(k + ": unknown weights '" + v + "' (available: product, paper, none)");
          o.weights = v;
+       }},
+      {"--beta", [&](auto& k, auto& v) {
+         if (v != "clamped" && v != "balance")
+           throw UsageError(k + ": unknown beta '" + v + "' (available: clamped, balance)");
+         o.beta = v;
        }},
       {"--ratio", [&](auto& k, auto& v) {
          std::string text = v;

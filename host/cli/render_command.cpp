@@ -39,6 +39,10 @@ std::uint32_t weight_mode_of(const RenderOptions& o) {
   return o.weights == "paper" ? BP_WEIGHTS_PAPER : BP_WEIGHTS_PRODUCT;
 }
 
+std::uint32_t beta_heuristic_of(const RenderOptions& o) {
+  return o.beta == "balance" ? BP_BETA_BALANCE : BP_BETA_CLAMPED;
+}
+
 ImageRGB sum_images(const ImageRGB& a, const ImageRGB& b) {
   ImageRGB out = a;
   for (std::size_t i = 0; i < out.rgb.size(); ++i) out.rgb[i] += b.rgb[i];
@@ -68,7 +72,7 @@ std::string options_key(const RenderOptions& o, int width, int height, float pat
     key += ";bins=" + std::to_string(bins) + ";warmup=" + std::to_string(o.warmup) +
            ";shading=" + (o.gouraud ? "gouraud" : "flat");
   if (shape)
-    key += ";weights=" + o.weights + ";round=" + std::to_string(shape->pt_samples) + "spp+" +
+    key += ";weights=" + o.weights + ";beta=" + o.beta + ";round=" + std::to_string(shape->pt_samples) + "spp+" +
            std::to_string(shape->rb_iterations) + "it";
   return key;
 }
@@ -140,6 +144,7 @@ int run_render(const RenderOptions& o) {
     settings.max_depth = o.max_depth;
     settings.weight_mode = weight_mode;
     settings.weight_ratio = ratio_n2_over_n1;
+    settings.beta_heuristic = beta_heuristic_of(o);
     settings.light_sampling = light_sampling;
     settings.kernel_options = kernel_opts;
     pt = std::make_unique<PathTracerPass>(device, device_scene, camera, settings, pt_accum);
@@ -157,6 +162,7 @@ int run_render(const RenderOptions& o) {
     rb_settings.kernel_options = kernel_opts;
     rb_settings.weight_mode = weight_mode;
     rb_settings.weight_ratio = ratio_n2_over_n1;
+    rb_settings.beta_heuristic = beta_heuristic_of(o);
     rb_settings.keep_raw = o.all_layers;
     try {
       check_bundle_memory(device.info, size, rb_settings.bins, std::size_t(width) * height, bundle_chains(rb_settings));
@@ -316,6 +322,7 @@ int run_render(const RenderOptions& o) {
     if (!o.checkpoint_path.empty()) stats["checkpoint"] = o.checkpoint_path;
     if (shape) {
       stats["weights"] = o.weights;
+      if (weight_mode == BP_WEIGHTS_PRODUCT) stats["beta"] = o.beta;
       stats["ratio"] = shape->ratio();
       stats["rounds"] = outcome.rounds;
     }

@@ -26,6 +26,7 @@ struct RayBundleSettings {
   bool gouraud = true;                // interpolate E_in across patches in the eye estimate
   std::uint32_t weight_mode = BP_WEIGHTS_NONE;
   float weight_ratio = 1.0f;          // N2 / N1
+  std::uint32_t beta_heuristic = BP_BETA_CLAMPED;  // product weights' per-vertex beta (BP_BETA_*)
   bool keep_raw = false;              // also the unweighted image (rb_raw)
   bool light_sampling = false;        // per-patch light samples and per-fragment weighted direct light
                                       // (DESIGN.md §3); product weights only, where the scene has lights

@@ -51,11 +51,16 @@ typedef struct {
   float weight_ratio;        // N2 / N1 of the combination (DESIGN.md §1)
   bp_u32 weight_mode;        // BP_WEIGHTS_*
   bp_u32 light_count;        // lights to sample (kernels/shared/lights.h); 0: no light sampling
+  bp_u32 beta_heuristic;     // BP_BETA_*: the per-vertex beta of product weights (kernels/shared/weights.h)
+  bp_u32 pad[3];
 } PathTraceParams;
 
 #define BP_WEIGHTS_NONE 0u
 #define BP_WEIGHTS_PAPER 1u
 #define BP_WEIGHTS_PRODUCT 2u
+
+#define BP_BETA_CLAMPED 0u  // beta = min(1, N2 / (N1 P))
+#define BP_BETA_BALANCE 1u  // beta = N2 / (N2 + N1 P)
 
 // Per-pixel sums the path tracer writes each launch (no atomics: one work-item per pixel).
 typedef struct {

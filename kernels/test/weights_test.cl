@@ -11,7 +11,7 @@
 // out[2 * path] = w_PT, out[2 * path + 1] = w_RB.
 __kernel void path_weights(__global const Material* materials, __global const float* geometry,
                            const uint vertices, const uint paths, const uint mode, const float ratio,
-                           __global float* out) {
+                           const uint heuristic, __global float* out) {
   uint path = (uint)get_global_id(0);
   if (path >= paths) return;
   __global const Material* m = &materials[path * vertices];
@@ -26,7 +26,7 @@ __kernel void path_weights(__global const Material* materials, __global const fl
     float pdf_uv = bsdf_pdf_uv(&b, n, wi, wo);  // what bsdf_sample returns with the direction
     if (mode == BP_WEIGHTS_PAPER) path_pdf_step(&pdf, b.continuation, pdf_uv);
     if (mode == BP_WEIGHTS_PRODUCT)
-      path_pdf_multiply_beta(&pdf, vertex_beta(b.continuation, pdf_uv, ratio));
+      path_pdf_multiply_beta(&pdf, vertex_beta(b.continuation, pdf_uv, ratio, heuristic));
   }
   float w_pt = pt_emission_weight(&pdf, mode, ratio);
 
@@ -37,7 +37,7 @@ __kernel void path_weights(__global const Material* materials, __global const fl
     Bsdf b = bsdf_from_material(&m[k]);
     float3 n = bp_load3(g + 9 * k), wo = bp_load3(g + 9 * k + 3), wi = bp_load3(g + 9 * k + 6);
     float pdf_uv = bsdf_evaluate(&b, n, wi, wo).pdf_uv;
-    if (mode == BP_WEIGHTS_PRODUCT) w_rb *= vertex_beta(b.continuation, pdf_uv, ratio);
+    if (mode == BP_WEIGHTS_PRODUCT) w_rb *= vertex_beta(b.continuation, pdf_uv, ratio, heuristic);
     log_pstar = paper_log_pstar_step(b.continuation, pdf_uv, log_pstar);
   }
   if (mode == BP_WEIGHTS_PAPER) w_rb = paper_rb_weight(log_pstar, ratio);
@@ -55,7 +55,7 @@ __kernel void path_weights(__global const Material* materials, __global const fl
 __kernel void last_segment_path_weights(__global const Material* materials, __global const float* geometry,
                                         __global const float* pdf_light, __global const uint* is_delta,
                                         const uint vertices, const uint paths, const float ratio,
-                                        __global float* out) {
+                                        const uint heuristic, __global float* out) {
   uint path = (uint)get_global_id(0);
   if (path >= paths) return;
   __global const Material* m = &materials[path * vertices];
@@ -70,7 +70,7 @@ __kernel void last_segment_path_weights(__global const Material* materials, __gl
   for (uint k = 0; k < last; ++k) {
     Bsdf b = bsdf_from_material(&m[k]);
     float3 n = bp_load3(g + 9 * k), wo = bp_load3(g + 9 * k + 3), wi = bp_load3(g + 9 * k + 6);
-    path_pdf_multiply_beta(&pdf, vertex_beta(b.continuation, bsdf_pdf_uv(&b, n, wi, wo), ratio));
+    path_pdf_multiply_beta(&pdf, vertex_beta(b.continuation, bsdf_pdf_uv(&b, n, wi, wo), ratio, heuristic));
   }
   float prefix = last == 0u ? 0.0f : pdf.beta_product;
   LastSegmentWeights pt = last_segment_weights(prefix, ratio, pdf_bsdf, pdf_light[path], (int)is_delta[path]);
@@ -82,7 +82,7 @@ __kernel void last_segment_path_weights(__global const Material* materials, __gl
   for (int k = (int)last - 1; k >= 0; --k) {
     Bsdf b = bsdf_from_material(&m[k]);
     float3 n = bp_load3(g + 9 * k), wo = bp_load3(g + 9 * k + 3), wi = bp_load3(g + 9 * k + 6);
-    float beta = vertex_beta(b.continuation, bsdf_evaluate(&b, n, wi, wo).pdf_uv, ratio);
+    float beta = vertex_beta(b.continuation, bsdf_evaluate(&b, n, wi, wo).pdf_uv, ratio, heuristic);
     rb_bundle *= beta;
     rb_light *= beta;
   }

@@ -107,6 +107,7 @@ CombinedRun render_combined(const Scene& scene, int width, int height, const Com
   pts.seed = cs.seed;
   pts.weight_mode = weights.mode;
   pts.weight_ratio = weights.ratio_n2_over_n1;
+  pts.beta_heuristic = cs.beta_heuristic;
   pts.light_sampling = cs.light_sampling;
   PathTracerPass pt(device, device_scene, camera, pts, pt_accum);
   RayBundleSettings rbs;
@@ -115,6 +116,7 @@ CombinedRun render_combined(const Scene& scene, int width, int height, const Com
   rbs.warmup = cs.warmup;
   rbs.weight_mode = weights.mode;
   rbs.weight_ratio = weights.ratio_n2_over_n1;
+  rbs.beta_heuristic = cs.beta_heuristic;
   rbs.light_sampling = cs.light_sampling;
   RayBundlePass rb(device, device_scene, geometry, camera, rbs, rb_accum);
   CombinedPass combined(pt, rb, shape);

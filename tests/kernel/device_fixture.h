@@ -62,6 +62,7 @@ struct CombinedSettings {
   std::uint32_t seed = 1, bins = 0, warmup = 16;
   float patch_size = 0.1f;
   bool light_sampling = false;
+  std::uint32_t beta_heuristic = BP_BETA_CLAMPED;
 };
 CombinedRun render_combined(const Scene& scene, int width, int height, const CombinedSettings& settings);
 

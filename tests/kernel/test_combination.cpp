@@ -12,8 +12,9 @@ namespace bp::test {
 namespace {
 
 CombinedRun combined_run(const Scene& scene, std::uint32_t mode, std::uint64_t rounds, std::uint32_t seed,
-                         bool light_sampling = false) {
+                         bool light_sampling = false, std::uint32_t beta_heuristic = BP_BETA_CLAMPED) {
   CombinedSettings cs;
+  cs.beta_heuristic = beta_heuristic;
   cs.light_sampling = light_sampling;
   cs.weight_mode = mode;
   cs.seed = seed;
@@ -22,18 +23,21 @@ CombinedRun combined_run(const Scene& scene, std::uint32_t mode, std::uint64_t r
   return render_combined(scene, kSize, kSize, cs);
 }
 
-// A glossy floor under a small light: the combination with the product weights converges to the path
-// tracer's answer -- no 8x8 block, channel or image level differs significantly between 8 independent
-// combined runs and 8 independent path-traced runs -- while the same test catches the plain sum
-// (--weights none, every path counted twice).
+// A glossy floor under a small light: the combination with the product weights (either beta)
+// converges to the path tracer's answer -- no 8x8 block, channel or image level differs significantly
+// between 8 independent combined runs and 8 independent path-traced runs -- while the same test
+// catches the plain sum (--weights none, every path counted twice).
 TEST(Combination, ProductWeightsConvergeToThePathTracedReferenceAndThePlainSumDoesNot) {
   Scene scene = make_glossy_light_box();
   const int runs = 8;
   Sample reference = independent_runs(runs, [&](std::uint32_t seed) { return render_pt(scene, kSize, kSize, 512, seed).image; });
-  Sample product = independent_runs(runs, [&](std::uint32_t seed) {
-    return combined_run(scene, BP_WEIGHTS_PRODUCT, 64, seed + 1).combined;  // 64 spp + 256 iterations each
-  });
-  for (const std::string& d : significant_differences(product, reference, runs)) ADD_FAILURE() << "product weights, " << d;
+  for (std::uint32_t beta : {BP_BETA_CLAMPED, BP_BETA_BALANCE}) {
+    Sample product = independent_runs(runs, [&](std::uint32_t seed) {
+      return combined_run(scene, BP_WEIGHTS_PRODUCT, 64, seed + 1, false, beta).combined;  // 64 spp + 256 iterations
+    });
+    for (const std::string& d : significant_differences(product, reference, runs))
+      ADD_FAILURE() << "product weights, beta " << (beta == BP_BETA_CLAMPED ? "clamped" : "balance") << ", " << d;
+  }
   Sample none = independent_runs(runs, [&](std::uint32_t seed) {
     return combined_run(scene, BP_WEIGHTS_NONE, 64, seed + 1).combined;
   });

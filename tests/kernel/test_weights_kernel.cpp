@@ -64,14 +64,14 @@ Paths make_paths(std::uint32_t paths, std::uint32_t vertices, std::uint32_t seed
 }
 
 std::vector<float> run_weights(const Paths& paths, std::uint32_t count, std::uint32_t vertices, std::uint32_t mode,
-                               float ratio) {
+                               float ratio, std::uint32_t heuristic) {
   const DeviceContext& device = test_device();
   BuiltProgram program = build_program(device, "test/weights_test.cl");
   cl::Kernel kernel(program.program, "path_weights");
   cl::Buffer materials = upload_buffer(device, "materials", paths.materials);
   cl::Buffer geometry = upload_buffer(device, "geometry", paths.geometry);
   cl::Buffer out = make_buffer(device, "weights", CL_MEM_WRITE_ONLY, 2 * count * sizeof(float));
-  set_args(kernel, materials, geometry, vertices, count, mode, ratio, out);
+  set_args(kernel, materials, geometry, vertices, count, mode, ratio, heuristic, out);
   Launcher launcher(device);
   launcher.launch("path_weights", kernel, count, 64);
   launcher.finish();
@@ -85,8 +85,10 @@ TEST(CombinationWeights, PtAndRbWeightsOfEveryPathSumToOne) {
   for (std::uint32_t vertices : {1u, 2u, 3u, 8u, 40u, 300u})
     for (float ratio : {1e-4f, 0.0625f, 1.0f, 16.0f, 1e4f}) {
       Paths paths = make_paths(count, vertices, 17u + vertices);
-      for (std::uint32_t mode : {BP_WEIGHTS_PRODUCT, BP_WEIGHTS_PAPER, BP_WEIGHTS_NONE}) {
-        std::vector<float> w = run_weights(paths, count, vertices, mode, ratio);
+      for (std::uint32_t mode : {BP_WEIGHTS_PRODUCT, BP_WEIGHTS_PAPER, BP_WEIGHTS_NONE})
+      for (std::uint32_t heuristic : {BP_BETA_CLAMPED, BP_BETA_BALANCE}) {
+        if (mode != BP_WEIGHTS_PRODUCT && heuristic != BP_BETA_CLAMPED) continue;  // beta: product weights only
+        std::vector<float> w = run_weights(paths, count, vertices, mode, ratio, heuristic);
         // Float products over the path: the tolerance grows with its length.
         const float tolerance = 2e-6f * float(vertices + 4);
         int bad = 0;
@@ -97,7 +99,7 @@ TEST(CombinationWeights, PtAndRbWeightsOfEveryPathSumToOne) {
           if (mode != BP_WEIGHTS_NONE) ok = ok && std::fabs(w_pt + w_rb - 1.0f) <= tolerance;
           if (!ok) {
             ++bad;
-            ADD_FAILURE() << "mode " << mode << ", " << vertices << " vertices, N2/N1 " << ratio << ", path " << i
+            ADD_FAILURE() << "mode " << mode << ", beta " << heuristic << ", " << vertices << " vertices, N2/N1 " << ratio << ", path " << i
                           << ": w_PT " << w_pt << " + w_RB " << w_rb << " = " << w_pt + w_rb;
           }
         }
@@ -132,6 +134,7 @@ TEST(CombinationWeights, FourTechniquesOfTheLastSegmentSumToOne) {
   const DeviceContext& device = test_device();
   BuiltProgram program = build_program(device, "test/weights_test.cl");
   cl::Kernel kernel(program.program, "last_segment_path_weights");
+  for (std::uint32_t heuristic : {BP_BETA_CLAMPED, BP_BETA_BALANCE})
   for (std::uint32_t vertices : {1u, 2u, 3u, 8u, 40u, 300u})
     for (float ratio : {1e-4f, 0.0625f, 1.0f, 16.0f, 1e4f}) {
       Paths paths = make_paths(count, vertices, 29u + vertices);
@@ -141,7 +144,7 @@ TEST(CombinationWeights, FourTechniquesOfTheLastSegmentSumToOne) {
       cl::Buffer pdf = upload_buffer(device, "light pdfs", lights.pdf);
       cl::Buffer delta = upload_buffer(device, "delta flags", lights.is_delta);
       cl::Buffer out = make_buffer(device, "weights", CL_MEM_WRITE_ONLY, 4 * count * sizeof(float));
-      set_args(kernel, materials, geometry, pdf, delta, vertices, count, ratio, out);
+      set_args(kernel, materials, geometry, pdf, delta, vertices, count, ratio, heuristic, out);
       Launcher launcher(device);
       launcher.launch("last_segment_path_weights", kernel, count, 64);
       launcher.finish();
@@ -160,7 +163,7 @@ TEST(CombinationWeights, FourTechniquesOfTheLastSegmentSumToOne) {
         if (lights.is_delta[i]) ok = ok && w[4 * i] == 0.0f && w[4 * i + 2] == 0.0f;  // only light samples
         if (!ok || std::fabs(sum - 1.0f) > tolerance) {
           ++bad;
-          ADD_FAILURE() << vertices << " vertices, N2/N1 " << ratio << ", p_L " << lights.pdf[i]
+          ADD_FAILURE() << "beta " << heuristic << ", " << vertices << " vertices, N2/N1 " << ratio << ", p_L " << lights.pdf[i]
                         << (lights.is_delta[i] ? " (delta)" : "") << ": PT bsdf " << w[4 * i] << " + PT light "
                         << w[4 * i + 1] << " + RB bundle " << w[4 * i + 2] << " + RB light " << w[4 * i + 3] << " = "
                         << sum;
