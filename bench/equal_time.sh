@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Equal-time comparison (the paper's claim): PT alone, RB alone and the combination with both weight
-# modes and several ratios, without light sampling (the paper's estimators) and with it, each for
-# the same wall time, against a long path-traced reference
+# modes, both betas of the product weights and several ratios, without light sampling (the paper's
+# estimators) and with it, each for the same wall time, against a long path-traced reference
 # (bench/reference.sh, cached under ~/.cache/bundlepath/references). Prints a Markdown table and writes the paper's
 # Figure 4 as bench-out/<scene>-contact-sheet.png.
 # Usage: bench/equal_time.sh [SCENE] [SECONDS] [SIZE] [REFERENCE_SPP]
@@ -41,6 +41,8 @@ for ratio in 1 1/4 1/16; do
   run "combined, product weights, ratio $ratio, no light sampling" --mode combined --weights product --ratio $ratio \
     --no-light-sampling
 done
+run "combined, product weights with \`--beta balance\`, ratio 1/4, no light sampling" --mode combined --beta balance \
+  --ratio 1/4 --no-light-sampling
 for ratio in 1 1/4; do
   run "combined, paper weights, ratio $ratio" --mode combined --weights paper --ratio $ratio
 done
@@ -49,6 +51,7 @@ run "PT (\`--mode pt\`)" --mode pt
 for ratio in 4 1 1/4 1/16; do
   run "combined, product weights, ratio $ratio" --mode combined --weights product --ratio $ratio
 done
+run "combined, product weights with \`--beta balance\`, ratio 1/4" --mode combined --beta balance --ratio 1/4
 bench_render "$scene" --width "$size" --height "$size" --time "$seconds" --mode combined --ratio 1/4 --no-light-sampling \
   --reference "$ref.exr" --contact-sheet "bench-out/$name-contact-sheet.png" --out "$tmp/sheet" 2>/dev/null
 echo
