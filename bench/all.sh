@@ -20,7 +20,7 @@ here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/.." && pwd)
 
 quick=0; out=""; cap=""; repeats=""; setup=1; build=1; plots=1
-stages="references convergence knobs kernels scaling equal_time light_sampling kernel_features rb_discretisation rb_warmup"
+stages="references convergence knobs kernels scaling equal_time equal_time_rooms light_sampling kernel_features rb_discretisation rb_warmup"
 while [ $# -gt 0 ]; do
   case $1 in
     --quick) quick=1 ;;
@@ -80,6 +80,7 @@ stage kernels bash "$here/kernels.sh" "${common[@]}"
 stage scaling bash "$here/scaling.sh" "${common[@]}"
 if [ $quick -eq 0 ]; then  # fixed-budget comparisons: minutes each, so not in the smoke test
   stage equal_time bash -c "bash '$here/equal_time.sh' > '$out/equal-time.md'"
+  stage equal_time_rooms bash -c "bash '$here/equal_time.sh' rooms-100000 16 128 8192 > '$out/equal-time-rooms.md'"
   stage light_sampling bash -c "bash '$here/light_sampling.sh' > '$out/light-sampling.md'"
   stage kernel_features bash -c "bash '$here/kernel_features.sh' > '$out/kernel-features.md'"
   stage rb_discretisation bash -c "bash '$here/rb_discretisation.sh' > '$out/rb-discretisation.md'"
@@ -95,7 +96,7 @@ total=$(python3 -c "import time; print(f'{time.time() - $t_all:.0f}')")
   echo "Load average before / after: $load_before / $load_after. Stage times (s):" \
        "$(printf '%s, ' "${timings[@]}" | sed 's/, $//'); total ${total} s."
   echo
-  for section in convergence knobs kernels scaling equal-time light-sampling kernel-features rb-discretisation rb-warmup; do
+  for section in convergence knobs kernels scaling equal-time equal-time-rooms light-sampling kernel-features rb-discretisation rb-warmup; do
     [ -f "$out/$section.md" ] || continue
     case $section in
       convergence) echo "### Error against time, per scene and mode" ;;
@@ -103,6 +104,7 @@ total=$(python3 -c "import time; print(f'{time.time() - $t_all:.0f}')")
       kernels) echo "### Kernel throughput" ;;
       scaling) echo "### Scaling" ;;
       equal-time) echo "### Equal time on cornell-glossy (the paper's claim)" ;;
+      equal-time-rooms) echo "### Equal time on rooms-100000" ;;
       light-sampling) echo "### Light sampling at equal time on cornell-box" ;;
       kernel-features) echo "### Specialised against generic kernels" ;;
       rb-discretisation) echo "### Ray-bundle discretisation" ;;

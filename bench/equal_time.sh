@@ -4,13 +4,14 @@
 # estimators) and with it, each for the same wall time, against a long path-traced reference
 # (bench/reference.sh, cached under ~/.cache/bundlepath/references). Prints a Markdown table and writes the paper's
 # Figure 4 as bench-out/<scene>-contact-sheet.png.
-# Usage: bench/equal_time.sh [SCENE] [SECONDS] [SIZE] [REFERENCE_SPP]
+# Usage: bench/equal_time.sh [SCENE] [SECONDS] [SIZE] [REFERENCE_SPP]   (SCENE: a name of bench_scene, e.g.
+#        cornell-glossy or rooms-100000, or a path)
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 # shellcheck source=bench/lib.sh
 source "$here/lib.sh"
 cd "$bench_root"
-scene=${1:-scenes/cornell-glossy.gltf}
+scene=$(bench_scene "${1:-cornell-glossy}")
 seconds=${2:-30}
 size=${3:-128}
 ref_spp=${4:-16384}

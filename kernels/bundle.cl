@@ -54,7 +54,8 @@ static float3 rb_light_sample(__global const BundleElement* e, float3 n, const B
   float t_max = ls.is_delta ? ls.distance : ls.distance - 4.0f * ray_epsilon;
   if (t_max <= 0.0f || bvh_occluded(nodes, triangles, x, ls.wi, t_max)) return make_float3(0.0f, 0.0f, 0.0f);
   BsdfValue v = bsdf_evaluate(bsdf, n, ls.wi, wo);
-  float w = last_segment_weights(1.0f, it->weight_ratio, bsdf->continuation * v.pdf_uv, ls.pdf_uv, ls.is_delta).rb_light;
+  float pdf_bsdf = bsdf->continuation * v.pdf_uv;
+  float w = last_segment_weights(1.0f, it->weight_ratio, pdf_bsdf, ls.pdf_uv, ls.is_delta).rb_light;
   return v.f * ls.radiance_over_pdf * (cos_x * w);  // f cos L / p_solid, weighted
 }
 
@@ -313,7 +314,8 @@ __kernel void rb_gather(__global const BundleElement* elements, __global const u
   const int with_p = it.weight_mode == BP_WEIGHTS_PAPER;
   for (uint c = 0; c < it.chains; ++c) {
     if (minus_patch != BP_NO_PATCH)
-      e_in[minus_patch * it.chains + c] = gather_chain(received_minus, tiled_at, begin, end, it.chains, c, scale, with_p);
+      e_in[minus_patch * it.chains + c] =
+          gather_chain(received_minus, tiled_at, begin, end, it.chains, c, scale, with_p);
     if (plus_patch != BP_NO_PATCH)
       e_in[plus_patch * it.chains + c] = gather_chain(received_plus, tiled_at, begin, end, it.chains, c, scale, with_p);
   }
