@@ -55,8 +55,9 @@ static float3 rb_light_sample(__global const BundleElement* e, float3 n, const B
   if (t_max <= 0.0f || bvh_occluded(nodes, triangles, x, ls.wi, t_max)) return make_float3(0.0f, 0.0f, 0.0f);
   BsdfValue v = bsdf_evaluate(bsdf, n, ls.wi, wo);
   float pdf_bsdf = bsdf->continuation * v.pdf_uv;
-  float w = last_segment_weights(1.0f, it->weight_ratio, pdf_bsdf, ls.pdf_uv, ls.is_delta).rb_light;
-  return v.f * ls.radiance_over_pdf * (cos_x * w);  // f cos L / p_solid, weighted
+  float w = last_segment_weights(1.0f, it->weight_ratio, it->light_rate, pdf_bsdf, ls.pdf_uv, ls.is_delta).rb_light;
+  // f cos L / p_solid, weighted, over the rate at which patches take this sample
+  return v.f * ls.radiance_over_pdf * (cos_x * w / it->light_rate);
 }
 
 // 1. Outgoing radiance of every patch along the new direction: the random operator T* applied to the
@@ -93,7 +94,8 @@ __kernel void rb_outgoing(__global const BundleElement* elements, __global const
       float4 direct = e_in[p * it.chains + it.direct_chain];  // already weighted per fragment
       reflected += transfer * make_float3(direct.x, direct.y, direct.z);
       Rng rng = rng_init(light_seed, p, iteration);
-      if (bsdf.continuation > 0.0f)  // a black patch reflects no light sample
+      // a black patch reflects no light sample; the others take one at the rate it.light_rate
+      if (bsdf.continuation > 0.0f && (it.light_rate >= 1.0f || rng_uniform(&rng) < it.light_rate))
         reflected += rb_light_sample(&elements[pe & ~BP_BACK_SIDE], n, &bsdf, wo, nodes, triangles, lights, light_cdf,
                                    materials, &it, &rng, ray_epsilon);
       emitted = make_float3(0.0f, 0.0f, 0.0f);
@@ -194,7 +196,7 @@ static float4 rb_direct_received(__global const BundleElement* elements, __globa
   Bsdf receiver = bsdf_from_material(&materials[elements[receiver_element].material]);
   float3 wi = facing(n_receiver, travel), wo = facing(n_receiver, bp_private3(it->omega_next));
   float pdf_bsdf = receiver.continuation * bsdf_pdf_uv(&receiver, n_receiver, wi, wo);
-  float w = last_segment_weights(1.0f, it->weight_ratio, pdf_bsdf, p_light, 0).rb_bundle;
+  float w = last_segment_weights(1.0f, it->weight_ratio, it->light_rate, pdf_bsdf, p_light, 0).rb_bundle;
   return (float4)(le.x * w, le.y * w, le.z * w, 0.0f);
 }
 

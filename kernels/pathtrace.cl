@@ -51,10 +51,13 @@ static void add_light_sample(const SceneRefs* scene, const PathTraceParams* para
   float pdf_bsdf = bsdf->continuation * v.pdf_uv;  // s p_b
   // f cos L / p_solid  (the light-sampling estimator of the rendering equation's integral)
   float3 contribution = throughput * v.f * ls.radiance_over_pdf * cos_x;
-  LastSegmentWeights w = last_segment_weights(prefix_beta, params->weight_ratio, pdf_bsdf, ls.pdf_uv, ls.is_delta);
+  LastSegmentWeights w =
+      last_segment_weights(prefix_beta, params->weight_ratio, params->rb_light_rate, pdf_bsdf, ls.pdf_uv, ls.is_delta);
   // The raw layer's PT-alone weights: the same as w without a prefix (pt mode, the eye vertex).
   LastSegmentWeights alone =
-      prefix_beta > 0.0f ? last_segment_weights(0.0f, params->weight_ratio, pdf_bsdf, ls.pdf_uv, ls.is_delta) : w;
+      prefix_beta > 0.0f
+          ? last_segment_weights(0.0f, params->weight_ratio, params->rb_light_rate, pdf_bsdf, ls.pdf_uv, ls.is_delta)
+          : w;
   radiance->weighted += contribution * w.pt_light;
   radiance->raw += contribution * alone.pt_light;
 }
@@ -91,9 +94,12 @@ static PathRadiance trace_path(const SceneRefs* scene, const PathTraceParams* pa
     } else if (emits) {
       float pdf_light = light_pdf_uv_area(scene->materials[surface.material].light_pdf_area, hit.t,
                                           dot(surface.normal, wo));
-      LastSegmentWeights w = last_segment_weights(last_prefix_beta, params->weight_ratio, last_pdf_bsdf, pdf_light, 0);
+      LastSegmentWeights w = last_segment_weights(last_prefix_beta, params->weight_ratio, params->rb_light_rate,
+                                                  last_pdf_bsdf, pdf_light, 0);
       LastSegmentWeights alone =
-          last_prefix_beta > 0.0f ? last_segment_weights(0.0f, params->weight_ratio, last_pdf_bsdf, pdf_light, 0) : w;
+          last_prefix_beta > 0.0f
+              ? last_segment_weights(0.0f, params->weight_ratio, params->rb_light_rate, last_pdf_bsdf, pdf_light, 0)
+              : w;
       radiance.weighted += emitted * w.pt_bsdf;
       radiance.raw += emitted * alone.pt_bsdf;
     }

@@ -62,6 +62,9 @@ options (defaults in brackets):
   --beta B            product weights: the per-vertex factor of w_RB = prod beta, from PT's
                       density P of the vertex's direction: clamped, min(1, N2/(N1 P)), or
                       balance, N2/(N2 + N1 P) (the paper's one-step weight)  [clamped]
+  --rb-light-rate R   combined with light sampling: the probability that a patch traces its
+                      shadow ray in an iteration, in (0, 1] (the weights count R·N2 samples)
+                                                                [min(1, pixels / patches)]
   --ratio C           combined: PT samples per pixel per RB iteration         [1/4]
                       0: ray bundles alone (w_RB = 1; count with --iterations or --time)
   --no-light-sampling turn light sampling off: emitters are then reached by BSDF sampling (pt)
@@ -129,6 +132,9 @@ RenderOptions parse_render_options(const std::vector<std::string>& args) {
          if (v != "clamped" && v != "balance")
            throw UsageError(k + ": unknown beta '" + v + "' (available: clamped, balance)");
          o.beta = v;
+       }},
+      {"--rb-light-rate", [&](auto& k, auto& v) {
+         o.light_rate = parse_number<float>(k, v, 1e-6f, 1.0f, "a probability in (0, 1]");
        }},
       {"--ratio", [&](auto& k, auto& v) {
          std::string text = v;

@@ -29,6 +29,7 @@ struct RenderOptions {
   std::string mode = "pt";       // pt, rb, combined
   std::string weights = "product";  // combined: product, paper, none
   std::string beta = "clamped";     // product weights: the per-vertex beta, clamped or balance
+  float light_rate = 0.0f;          // combined + light sampling: RB's light-sample rate; 0: default_light_rate
   double ratio = -1.0;           // combined: PT samples per pixel per RB iteration (0: RB alone); < 0: the default, 1/4
   bool all_layers = false;       // --layers all: also pt_raw and rb_raw
   bool light_sampling = true;    // --no-light-sampling turns it off (light_sampling_applies says where it acts)

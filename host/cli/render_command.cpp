@@ -72,7 +72,7 @@ std::string options_key(const RenderOptions& o, int width, int height, float pat
     key += ";bins=" + std::to_string(bins) + ";warmup=" + std::to_string(o.warmup) +
            ";shading=" + (o.gouraud ? "gouraud" : "flat");
   if (shape)
-    key += ";weights=" + o.weights + ";beta=" + o.beta + ";round=" + std::to_string(shape->pt_samples) + "spp+" +
+    key += ";weights=" + o.weights + ";beta=" + o.beta + ";light_rate=" + std::to_string(o.light_rate) + ";round=" + std::to_string(shape->pt_samples) + "spp+" +
            std::to_string(shape->rb_iterations) + "it";
   return key;
 }
@@ -134,6 +134,8 @@ int run_render(const RenderOptions& o) {
   DeviceScene device_scene(device, scene, patches, bvh);
   const CameraParams camera = pack_camera(scene.camera, width, height);
   const bool light_sampling = light_sampling_applies(o) && device_scene.light_count > 0;
+  const float light_rate =
+      o.light_rate > 0.0f ? o.light_rate : default_light_rate(patches.patch_count, std::size_t(width) * height);
   const std::string kernel_opts = o.generic_kernels ? "" : kernel_options(features_for(scene, light_sampling));
   Accumulator pt_accum(width, height, o.all_layers), rb_accum(width, height, o.all_layers);
 
@@ -145,6 +147,7 @@ int run_render(const RenderOptions& o) {
     settings.weight_mode = weight_mode;
     settings.weight_ratio = ratio_n2_over_n1;
     settings.beta_heuristic = beta_heuristic_of(o);
+    settings.rb_light_rate = light_rate;
     settings.light_sampling = light_sampling;
     settings.kernel_options = kernel_opts;
     pt = std::make_unique<PathTracerPass>(device, device_scene, camera, settings, pt_accum);
@@ -163,6 +166,7 @@ int run_render(const RenderOptions& o) {
     rb_settings.weight_mode = weight_mode;
     rb_settings.weight_ratio = ratio_n2_over_n1;
     rb_settings.beta_heuristic = beta_heuristic_of(o);
+    rb_settings.light_rate = light_rate;
     rb_settings.keep_raw = o.all_layers;
     try {
       check_bundle_memory(device.info, size, rb_settings.bins, std::size_t(width) * height, bundle_chains(rb_settings));
@@ -323,6 +327,7 @@ int run_render(const RenderOptions& o) {
     if (shape) {
       stats["weights"] = o.weights;
       if (weight_mode == BP_WEIGHTS_PRODUCT) stats["beta"] = o.beta;
+      if (light_sampling && rb) stats["rb_light_rate"] = light_rate;
       stats["ratio"] = shape->ratio();
       stats["rounds"] = outcome.rounds;
     }

@@ -13,6 +13,7 @@ PathTracerPass::PathTracerPass(const DeviceContext& device, const DeviceScene& s
   params_.weight_mode = settings.weight_mode;
   params_.weight_ratio = settings.weight_ratio;
   params_.beta_heuristic = settings.beta_heuristic;
+  params_.rb_light_rate = settings.rb_light_rate;
   params_.light_count = settings.light_sampling ? scene.light_count : 0u;
   program_ = build_program(device, "pathtrace.cl", settings.kernel_options);
   kernel_ = cl::Kernel(program_.program, "pathtrace");

@@ -16,6 +16,7 @@ struct PathTracerSettings {
   std::uint32_t weight_mode = BP_WEIGHTS_NONE;
   float weight_ratio = 1.0f;                  // N2 / N1
   std::uint32_t beta_heuristic = BP_BETA_CLAMPED;  // product weights' per-vertex beta (BP_BETA_*)
+  float rb_light_rate = 1.0f;                 // the ray bundles' light-sample rate, for the weights
   bool light_sampling = true;                 // next-event estimation (DESIGN.md §3), where the scene has lights
   std::string kernel_options;                 // feature switches (device/kernel_features.h); empty: generic
 };

@@ -29,6 +29,10 @@ std::uint32_t default_bins(const BundleSize& size, double bins_per_element) {
   return std::uint32_t(std::clamp(std::ceil(2.0 * size.radius / bin_size), 16.0, 4096.0));
 }
 
+float default_light_rate(std::size_t patches, std::size_t pixels) {
+  return patches > pixels ? float(double(pixels) / double(patches)) : 1.0f;
+}
+
 double expected_fragments(const BundleSize& size, std::uint32_t bins) {
   double bin_size = 2.0 * size.radius / bins;
   return 0.5 * size.element_area / (bin_size * bin_size);
@@ -209,6 +213,7 @@ BundleIteration RayBundlePass::iteration_params(std::uint64_t iteration) const {
   it.chains = chains_;
   it.weight_ratio = settings_.weight_ratio;
   it.beta_heuristic = settings_.beta_heuristic;
+  it.light_rate = settings_.light_rate;
   it.eye_outputs = eye_outputs_;
   it.light_count = samples_lights(settings_) ? scene_.light_count : 0u;
   it.direct_chain = samples_lights(settings_) ? 1u : 0u;

@@ -27,6 +27,7 @@ struct RayBundleSettings {
   std::uint32_t weight_mode = BP_WEIGHTS_NONE;
   float weight_ratio = 1.0f;          // N2 / N1
   std::uint32_t beta_heuristic = BP_BETA_CLAMPED;  // product weights' per-vertex beta (BP_BETA_*)
+  float light_rate = 1.0f;            // probability that a patch traces its light sample in an iteration
   bool keep_raw = false;              // also the unweighted image (rb_raw)
   bool light_sampling = false;        // per-patch light samples and per-fragment weighted direct light
                                       // (DESIGN.md §3); product weights only, where the scene has lights
@@ -37,6 +38,12 @@ struct RayBundleSettings {
 // Bins per side so that an element of average area covers `bins_per_element` bins on average
 // (its mean projected area is half its area, over directions uniform on the sphere).
 std::uint32_t default_bins(const BundleSize& size, double bins_per_element = 4.0);
+
+// The rate at which a patch traces its light sample in an iteration (light sampling, DESIGN.md §3):
+// about as many shadow rays per iteration as the image has pixels, and every patch on scenes with
+// fewer patches than pixels. A shadow ray per patch made an iteration on a 122 000-patch scene four
+// to five times dearer than without light sampling.
+float default_light_rate(std::size_t patches, std::size_t pixels);
 
 // Expected fragments per iteration: sum of projected areas over the bin area, exact in expectation.
 double expected_fragments(const BundleSize& size, std::uint32_t bins);

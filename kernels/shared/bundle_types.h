@@ -53,7 +53,8 @@ typedef struct {
   float omega_next[3];    // next iteration's direction: where the light arriving now will be sent
   bp_u32 direct_chain;    // the chain of light straight from emitters (light sampling), 0: none
   bp_u32 beta_heuristic;  // BP_BETA_*: the per-vertex beta of product weights (kernels/shared/weights.h)
-  bp_u32 pad[3];
+  float light_rate;       // probability that a patch traces its light sample in an iteration (in (0, 1])
+  bp_u32 pad[2];
 } BundleIteration;
 
 // Chains per patch and fragment: chain 0 is the weighted one. With light sampling (product weights)

@@ -52,7 +52,8 @@ typedef struct {
   bp_u32 weight_mode;        // BP_WEIGHTS_*
   bp_u32 light_count;        // lights to sample (kernels/shared/lights.h); 0: no light sampling
   bp_u32 beta_heuristic;     // BP_BETA_*: the per-vertex beta of product weights (kernels/shared/weights.h)
-  bp_u32 pad[3];
+  float rb_light_rate;       // the ray bundles' light-sample rate (BundleIteration), for the weights
+  bp_u32 pad[2];
 } PathTraceParams;
 
 #define BP_WEIGHTS_NONE 0u

@@ -44,23 +44,24 @@ BP_FN float paper_rb_weight(float log_pstar, float ratio_n2_over_n1) {
 
 // The four techniques that can make the last segment of a path (the connection from x_{n-1} to the
 // emitter) when light sampling is on (DESIGN.md §3, "Light sampling as a strategy"): RB bundle
-// (density 1, N2 samples), RB per-patch light sample (p_L, N2), PT BSDF (s p_b, N1), PT light sample
-// (p_L, N1). With D = N2 (1 + p_L) + N1 (s p_b + p_L) and the product prefix_beta of the vertices
-// before x_{n-1}:
-//   w_RB,bundle = prefix_beta N2 / D,  w_RB,light = prefix_beta N2 p_L / D,  R = their sum,
+// (density 1, N2 samples), RB per-patch light sample (p_L, rho N2: a patch samples the lights in an
+// iteration with probability rho, the rate), PT BSDF (s p_b, N1), PT light sample (p_L, N1). With
+// D = N2 (1 + rho p_L) + N1 (s p_b + p_L) and the product prefix_beta of the vertices before x_{n-1}:
+//   w_RB,bundle = prefix_beta N2 / D,  w_RB,light = prefix_beta rho N2 p_L / D,  R = their sum,
 //   w_PT,bsdf = (1 - R) s p_b / (s p_b + p_L),  w_PT,light = (1 - R) p_L / (s p_b + p_L).
 // prefix_beta = 0 gives PT alone its balance heuristic: the eye vertex's direct light, or
-// --weights none. A delta light (p_L infinite) splits N2 : N1 between the two light samples.
+// --weights none. A delta light (p_L infinite) splits rho N2 : N1 between the two light samples.
 typedef struct {
   float rb_bundle, rb_light, pt_bsdf, pt_light;
 } LastSegmentWeights;
 
-BP_FN LastSegmentWeights last_segment_weights(float prefix_beta, float ratio_n2_over_n1, float pdf_bsdf_uv,
-                                              float pdf_light_uv, int is_delta) {
+BP_FN LastSegmentWeights last_segment_weights(float prefix_beta, float ratio_n2_over_n1, float rb_light_rate,
+                                              float pdf_bsdf_uv, float pdf_light_uv, int is_delta) {
   LastSegmentWeights w;
   w.rb_bundle = 0.0f;
   if (is_delta) {
-    w.rb_light = prefix_beta * ratio_n2_over_n1 / (ratio_n2_over_n1 + 1.0f);
+    float c = ratio_n2_over_n1 * rb_light_rate;
+    w.rb_light = prefix_beta * c / (c + 1.0f);
     w.pt_bsdf = 0.0f;
     w.pt_light = 1.0f - w.rb_light;
     return w;
@@ -69,9 +70,9 @@ BP_FN LastSegmentWeights last_segment_weights(float prefix_beta, float ratio_n2_
   // or lights seen at grazing angles.
   float m = fmax(1.0f, fmax(pdf_bsdf_uv, pdf_light_uv));
   float bsdf = pdf_bsdf_uv / m, light = pdf_light_uv / m, c = ratio_n2_over_n1;
-  float d = c * (1.0f / m + light) + bsdf + light;
+  float d = c * (1.0f / m + rb_light_rate * light) + bsdf + light;
   w.rb_bundle = d > 0.0f ? prefix_beta * (c / m) / d : 0.0f;
-  w.rb_light = d > 0.0f ? prefix_beta * (c * light) / d : 0.0f;
+  w.rb_light = d > 0.0f ? prefix_beta * (c * rb_light_rate * light) / d : 0.0f;
   float pt_share = fmax(0.0f, 1.0f - (w.rb_bundle + w.rb_light));  // not -1e-8 where RB takes it all
   float pt_sum = bsdf + light;
   w.pt_bsdf = pt_sum > 0.0f ? pt_share * bsdf / pt_sum : 0.5f * pt_share;

@@ -55,7 +55,7 @@ __kernel void path_weights(__global const Material* materials, __global const fl
 __kernel void last_segment_path_weights(__global const Material* materials, __global const float* geometry,
                                         __global const float* pdf_light, __global const uint* is_delta,
                                         const uint vertices, const uint paths, const float ratio,
-                                        const uint heuristic, __global float* out) {
+                                        const uint heuristic, const float light_rate, __global float* out) {
   uint path = (uint)get_global_id(0);
   if (path >= paths) return;
   __global const Material* m = &materials[path * vertices];
@@ -73,11 +73,11 @@ __kernel void last_segment_path_weights(__global const Material* materials, __gl
     path_pdf_multiply_beta(&pdf, vertex_beta(b.continuation, bsdf_pdf_uv(&b, n, wi, wo), ratio, heuristic));
   }
   float prefix = last == 0u ? 0.0f : pdf.beta_product;
-  LastSegmentWeights pt = last_segment_weights(prefix, ratio, pdf_bsdf, pdf_light[path], (int)is_delta[path]);
+  LastSegmentWeights pt = last_segment_weights(prefix, ratio, light_rate, pdf_bsdf, pdf_light[path], (int)is_delta[path]);
 
   // RB: the last vertex's factor, then beta at each reflection towards the eye (rb_outgoing), and at
   // the eye vertex (rb_eye), which takes no direct light at all.
-  LastSegmentWeights rb = last_segment_weights(1.0f, ratio, pdf_bsdf, pdf_light[path], (int)is_delta[path]);
+  LastSegmentWeights rb = last_segment_weights(1.0f, ratio, light_rate, pdf_bsdf, pdf_light[path], (int)is_delta[path]);
   float rb_bundle = rb.rb_bundle, rb_light = rb.rb_light;
   for (int k = (int)last - 1; k >= 0; --k) {
     Bsdf b = bsdf_from_material(&m[k]);

@@ -108,6 +108,7 @@ CombinedRun render_combined(const Scene& scene, int width, int height, const Com
   pts.weight_mode = weights.mode;
   pts.weight_ratio = weights.ratio_n2_over_n1;
   pts.beta_heuristic = cs.beta_heuristic;
+  pts.rb_light_rate = cs.light_rate;
   pts.light_sampling = cs.light_sampling;
   PathTracerPass pt(device, device_scene, camera, pts, pt_accum);
   RayBundleSettings rbs;
@@ -117,6 +118,7 @@ CombinedRun render_combined(const Scene& scene, int width, int height, const Com
   rbs.weight_mode = weights.mode;
   rbs.weight_ratio = weights.ratio_n2_over_n1;
   rbs.beta_heuristic = cs.beta_heuristic;
+  rbs.light_rate = cs.light_rate;
   rbs.light_sampling = cs.light_sampling;
   RayBundlePass rb(device, device_scene, geometry, camera, rbs, rb_accum);
   CombinedPass combined(pt, rb, shape);

@@ -63,6 +63,7 @@ struct CombinedSettings {
   float patch_size = 0.1f;
   bool light_sampling = false;
   std::uint32_t beta_heuristic = BP_BETA_CLAMPED;
+  float light_rate = 1.0f;  // RB's light-sample rate (light sampling)
 };
 CombinedRun render_combined(const Scene& scene, int width, int height, const CombinedSettings& settings);
 

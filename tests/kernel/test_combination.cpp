@@ -12,9 +12,11 @@ namespace bp::test {
 namespace {
 
 CombinedRun combined_run(const Scene& scene, std::uint32_t mode, std::uint64_t rounds, std::uint32_t seed,
-                         bool light_sampling = false, std::uint32_t beta_heuristic = BP_BETA_CLAMPED) {
+                         bool light_sampling = false, std::uint32_t beta_heuristic = BP_BETA_CLAMPED,
+                         float light_rate = 1.0f) {
   CombinedSettings cs;
   cs.beta_heuristic = beta_heuristic;
+  cs.light_rate = light_rate;
   cs.light_sampling = light_sampling;
   cs.weight_mode = mode;
   cs.seed = seed;
@@ -46,18 +48,21 @@ TEST(Combination, ProductWeightsConvergeToThePathTracedReferenceAndThePlainSumDo
 
 // Light sampling as a further strategy (DESIGN.md §3): the four techniques of the last segment keep
 // the product combination unbiased, for an area light and for a point light (which only the PT and
-// RB light samples reach).
-void expect_light_sampled_combination_unbiased(const Scene& scene) {
+// RB light samples reach), with every patch tracing its light sample each iteration and with a
+// quarter of them (the rate large scenes get; the weights count rate x N2 RB light samples).
+void expect_light_sampled_combination_unbiased(const Scene& scene, float light_rate) {
   const int runs = 8;
   Sample reference = independent_runs(runs, [&](std::uint32_t seed) { return render_pt(scene, kSize, kSize, 256, seed).image; });
   Sample combined = independent_runs(runs, [&](std::uint32_t seed) {
-    return combined_run(scene, BP_WEIGHTS_PRODUCT, 64, seed + 1, true).combined;
+    return combined_run(scene, BP_WEIGHTS_PRODUCT, 64, seed + 1, true, BP_BETA_CLAMPED, light_rate).combined;
   });
-  for (const std::string& d : significant_differences(combined, reference, runs)) ADD_FAILURE() << d;
+  for (const std::string& d : significant_differences(combined, reference, runs))
+    ADD_FAILURE() << "RB light rate " << light_rate << ", " << d;
 }
 
 TEST(Combination, LightSamplingKeepsTheProductWeightsUnbiasedUnderAnAreaLight) {
-  expect_light_sampled_combination_unbiased(make_glossy_light_box());
+  expect_light_sampled_combination_unbiased(make_glossy_light_box(), 1.0f);
+  expect_light_sampled_combination_unbiased(make_glossy_light_box(), 0.25f);
 }
 
 TEST(Combination, LightSamplingKeepsTheProductWeightsUnbiasedUnderAPointLight) {
@@ -67,7 +72,7 @@ TEST(Combination, LightSamplingKeepsTheProductWeightsUnbiasedUnderAPointLight) {
   point.position = glm::vec3(0.1f, 0.3f, -0.1f);
   point.intensity = glm::vec3(1.0f, 0.8f, 0.6f);
   scene.lights.push_back(point);
-  expect_light_sampled_combination_unbiased(scene);
+  expect_light_sampled_combination_unbiased(scene, 0.25f);
 }
 
 TEST(Combination, ErrorKeepsFallingAsTheRunGetsLonger) {

@@ -134,6 +134,7 @@ TEST(CombinationWeights, FourTechniquesOfTheLastSegmentSumToOne) {
   const DeviceContext& device = test_device();
   BuiltProgram program = build_program(device, "test/weights_test.cl");
   cl::Kernel kernel(program.program, "last_segment_path_weights");
+  for (float light_rate : {1.0f, 0.1f})
   for (std::uint32_t heuristic : {BP_BETA_CLAMPED, BP_BETA_BALANCE})
   for (std::uint32_t vertices : {1u, 2u, 3u, 8u, 40u, 300u})
     for (float ratio : {1e-4f, 0.0625f, 1.0f, 16.0f, 1e4f}) {
@@ -144,7 +145,7 @@ TEST(CombinationWeights, FourTechniquesOfTheLastSegmentSumToOne) {
       cl::Buffer pdf = upload_buffer(device, "light pdfs", lights.pdf);
       cl::Buffer delta = upload_buffer(device, "delta flags", lights.is_delta);
       cl::Buffer out = make_buffer(device, "weights", CL_MEM_WRITE_ONLY, 4 * count * sizeof(float));
-      set_args(kernel, materials, geometry, pdf, delta, vertices, count, ratio, heuristic, out);
+      set_args(kernel, materials, geometry, pdf, delta, vertices, count, ratio, heuristic, light_rate, out);
       Launcher launcher(device);
       launcher.launch("last_segment_path_weights", kernel, count, 64);
       launcher.finish();
@@ -163,7 +164,7 @@ TEST(CombinationWeights, FourTechniquesOfTheLastSegmentSumToOne) {
         if (lights.is_delta[i]) ok = ok && w[4 * i] == 0.0f && w[4 * i + 2] == 0.0f;  // only light samples
         if (!ok || std::fabs(sum - 1.0f) > tolerance) {
           ++bad;
-          ADD_FAILURE() << "beta " << heuristic << ", " << vertices << " vertices, N2/N1 " << ratio << ", p_L " << lights.pdf[i]
+          ADD_FAILURE() << "RB light rate " << light_rate << ", beta " << heuristic << ", " << vertices << " vertices, N2/N1 " << ratio << ", p_L " << lights.pdf[i]
                         << (lights.is_delta[i] ? " (delta)" : "") << ": PT bsdf " << w[4 * i] << " + PT light "
                         << w[4 * i + 1] << " + RB bundle " << w[4 * i + 2] << " + RB light " << w[4 * i + 3] << " = "
                         << sum;
