@@ -72,8 +72,8 @@ std::string options_key(const RenderOptions& o, int width, int height, float pat
     key += ";bins=" + std::to_string(bins) + ";warmup=" + std::to_string(o.warmup) +
            ";shading=" + (o.gouraud ? "gouraud" : "flat");
   if (shape)
-    key += ";weights=" + o.weights + ";beta=" + o.beta + ";light_rate=" + std::to_string(o.light_rate) + ";round=" + std::to_string(shape->pt_samples) + "spp+" +
-           std::to_string(shape->rb_iterations) + "it";
+    key += ";weights=" + o.weights + ";beta=" + o.beta + ";light_rate=" + std::to_string(o.light_rate) +
+           ";round=" + std::to_string(shape->pt_samples) + "spp+" + std::to_string(shape->rb_iterations) + "it";
   return key;
 }
 
