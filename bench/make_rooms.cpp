@@ -4,14 +4,7 @@
 // a node. The file is read back with the renderer's own loader and checked (triangle count,
 // materials, camera) before the tool reports success.
 // Usage: make_rooms TRIANGLES OUT.glb|OUT.gltf [--seed N]
-#define TINYGLTF_NO_STB_IMAGE
-#define TINYGLTF_NO_STB_IMAGE_WRITE
-#define TINYGLTF_NO_EXTERNAL_IMAGE
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wall"
-#pragma GCC diagnostic ignored "-Wextra"
-#include <tiny_gltf.h>
-#pragma GCC diagnostic pop
+#include "scene/tinygltf.h"
 
 #include "scene/gltf_loader.h"
 #include "scene/procedural.h"

@@ -2,15 +2,7 @@
 // tinygltf 2.7 trusts them. Every failure is one SceneError line "<path>: <object> <problem>".
 #include "scene/gltf_loader.h"
 
-// Must match host/scene/tiny_gltf_impl.cpp.
-#define TINYGLTF_NO_STB_IMAGE
-#define TINYGLTF_NO_STB_IMAGE_WRITE
-#define TINYGLTF_NO_EXTERNAL_IMAGE
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wall"
-#pragma GCC diagnostic ignored "-Wextra"
-#include <tiny_gltf.h>
-#pragma GCC diagnostic pop
+#include "scene/tinygltf.h"
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
