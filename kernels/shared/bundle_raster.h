@@ -73,7 +73,8 @@ BP_FN RasterElement raster_setup(BP_GLOBAL const BundleElement* e, const BundleI
 
 // Bins of row j whose centres lie inside the element: [*first, *last] (empty when last < first).
 // Each edge function is linear in x along the row, so the row's span is the intersection of three
-// half-lines; count and emit call this same code, so they always agree. A centre exactly on an edge
+// half-lines, where each edge crosses the row (set up once per element). rb_emit and raster_count
+// (what the tests check against brute force) walk the same spans. A centre exactly on an edge
 // (probability zero under the random offset) may belong to both neighbours or neither.
 BP_FN void raster_row_span(const RasterElement* r, bp_i32 j, bp_i32* first, bp_i32* last) {
   float py = (float)j + 0.5f;
@@ -93,7 +94,7 @@ BP_FN float raster_depth(const RasterElement* r, bp_i32 i, bp_i32 j) {
   return r->depth_0 + r->depth_dx * ((float)i + 0.5f) + r->depth_dy * ((float)j + 0.5f);
 }
 
-// Number of bins the element covers.
+// Number of bins the element covers (the tests' view of the spans rb_emit walks).
 BP_FN bp_u32 raster_count(const RasterElement* r) {
   bp_u32 covered = 0u;
   for (bp_i32 j = r->j0; j <= r->j1; ++j) {
