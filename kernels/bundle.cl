@@ -37,27 +37,45 @@ static float paper_log_p_out(float3 emitted, float3 reflected, float log_p_refle
 }
 
 // The per-patch light sample of DESIGN.md §3: one shadow ray from a random point of the patch to a
-// light chosen by power, its reflection towards wo weighted as the RB light technique of the last
-// segment (the product of the vertices before it is applied downstream, as for every reflection).
-static float3 rb_light_sample(__global const BundleElement* e, float3 n, const Bsdf* bsdf, float3 wo,
-                              __global const BvhNode* nodes, __global const BvhTriangle* triangles,
-                              __global const Light* lights, __global const float* light_cdf,
-                              __global const Material* materials, const BundleIteration* it, Rng* rng,
-                              float ray_epsilon) {
+// light chosen by power. `irradiance` is L cos / p_solid over the rate at which patches take this
+// sample (0 when the light is not reached); the techniques' weights are applied by the callers.
+typedef struct {
+  float3 wi;          // towards the light
+  float3 irradiance;  // unweighted, over the rate
+  float pdf_light;    // p_L of wi (uv)
+  int is_delta;
+} PatchLightSample;
+
+static PatchLightSample rb_light_sample(__global const BundleElement* e, float3 n, __global const BvhNode* nodes,
+                                        __global const BvhTriangle* triangles, __global const Light* lights,
+                                        __global const float* light_cdf, __global const Material* materials,
+                                        const BundleIteration* it, Rng* rng, float ray_epsilon) {
+  PatchLightSample out;
+  out.irradiance = make_float3(0.0f, 0.0f, 0.0f);
   float root = sqrt(rng_uniform(rng)), u = rng_uniform(rng);  // uniform on the element
   float3 x = bp_load3(e->v0) + bp_load3(e->e1) * (root * (1.0f - u)) + bp_load3(e->e2) * (root * u) + n * ray_epsilon;
   float u_pick = rng_uniform(rng), u1 = rng_uniform(rng), u2 = rng_uniform(rng);
   LightSample ls = light_sample(lights, light_cdf, it->light_count, materials, x, u_pick, u1, u2);
+  out.wi = ls.wi;
+  out.pdf_light = ls.pdf_uv;
+  out.is_delta = ls.is_delta;
   float cos_x = dot(n, ls.wi);
-  if (!(cos_x > 0.0f) || ls.radiance_over_pdf.x + ls.radiance_over_pdf.y + ls.radiance_over_pdf.z <= 0.0f)
-    return make_float3(0.0f, 0.0f, 0.0f);
+  if (!(cos_x > 0.0f) || ls.radiance_over_pdf.x + ls.radiance_over_pdf.y + ls.radiance_over_pdf.z <= 0.0f) return out;
   float t_max = ls.is_delta ? ls.distance : ls.distance - 4.0f * ray_epsilon;
-  if (t_max <= 0.0f || bvh_occluded(nodes, triangles, x, ls.wi, t_max)) return make_float3(0.0f, 0.0f, 0.0f);
-  BsdfValue v = bsdf_evaluate(bsdf, n, ls.wi, wo);
+  if (t_max <= 0.0f || bvh_occluded(nodes, triangles, x, ls.wi, t_max)) return out;
+  out.irradiance = ls.radiance_over_pdf * (cos_x / it->light_rate);  // L cos / p_solid, over the rate
+  return out;
+}
+
+// The light sample reflected towards wo, weighted as the RB light technique of the last segment (the
+// product of the vertices before it is applied downstream, as for every reflection).
+static float3 rb_light_reflected(const PatchLightSample* ls, const Bsdf* bsdf, float3 n, float3 wo,
+                                 const BundleIteration* it) {
+  if (ls->irradiance.x + ls->irradiance.y + ls->irradiance.z <= 0.0f) return make_float3(0.0f, 0.0f, 0.0f);
+  BsdfValue v = bsdf_evaluate(bsdf, n, ls->wi, wo);
   float pdf_bsdf = bsdf->continuation * v.pdf_uv;
-  float w = last_segment_weights(1.0f, it->weight_ratio, it->light_rate, pdf_bsdf, ls.pdf_uv, ls.is_delta).rb_light;
-  // f cos L / p_solid, weighted, over the rate at which patches take this sample
-  return v.f * ls.radiance_over_pdf * (cos_x * w / it->light_rate);
+  float w = last_segment_weights(1.0f, it->weight_ratio, it->light_rate, pdf_bsdf, ls->pdf_light, ls->is_delta).rb_light;
+  return v.f * ls->irradiance * w;  // f L cos / p_solid, weighted
 }
 
 // 1. Outgoing radiance of every patch along the new direction: the random operator T* applied to the
@@ -70,7 +88,7 @@ __kernel void rb_outgoing(__global const BundleElement* elements, __global const
                           const BundleIteration it, const uint patches, __global float4* l_out,
                           __global const BvhNode* nodes, __global const BvhTriangle* triangles,
                           __global const Light* lights, __global const float* light_cdf, const uint light_seed,
-                          const uint iteration, const float ray_epsilon) {
+                          const uint iteration, const float ray_epsilon, __global float4* eye_light) {
   uint p = (uint)get_global_id(0);
   if (p >= patches) return;
   uint pe = patch_element[p];
@@ -81,6 +99,26 @@ __kernel void rb_outgoing(__global const BundleElement* elements, __global const
   BsdfValue v = bsdf_evaluate(&bsdf, n, wi, wo);
   float3 transfer = v.f * BP_TWO_PI;  // 2 pi f, times E_in = L_in cos below
   const int light_sampling = BP_FEATURE_LIGHT_SAMPLING && it.light_count > 0u;
+  const uint eye_chain = light_sampling && it.eye_direct_chain ? it.eye_direct_chain : it.chains;  // chains: none
+  PatchLightSample ls;
+  ls.irradiance = make_float3(0.0f, 0.0f, 0.0f);
+  if (light_sampling) {
+    Rng rng = rng_init(light_seed, p, iteration);
+    // a black patch reflects no light sample; the others take one at the rate it.light_rate
+    if (bsdf.continuation > 0.0f && (it.light_rate >= 1.0f || rng_uniform(&rng) < it.light_rate))
+      ls = rb_light_sample(&elements[pe & ~BP_BACK_SIDE], n, nodes, triangles, lights, light_cdf, materials, &it, &rng,
+                           ray_epsilon);
+  }
+  if (eye_chain < it.chains) {
+    // The same sample for the eye vertex (--eye-direct shared): its irradiance weighted as the RB
+    // light technique of the eye vertex's last segment, and its direction, for rb_eye to reflect.
+    float w = ls.irradiance.x + ls.irradiance.y + ls.irradiance.z > 0.0f
+                  ? eye_segment_weights(it.weight_ratio, it.light_rate, eye_direct_proxy_pdf_uv(&bsdf, dot(n, ls.wi)),
+                                        0.0f, ls.pdf_light, ls.is_delta).rb_light
+                  : 0.0f;
+    eye_light[2 * p] = (float4)(ls.irradiance.x * w, ls.irradiance.y * w, ls.irradiance.z * w, 0.0f);
+    eye_light[2 * p + 1] = (float4)(ls.wi.x, ls.wi.y, ls.wi.z, 0.0f);
+  }
   for (uint c = 0; c < it.chains; ++c) {
     float4 e = e_in[p * it.chains + c];
     float3 reflected = transfer * make_float3(e.x, e.y, e.z);
@@ -92,15 +130,11 @@ __kernel void rb_outgoing(__global const BundleElement* elements, __global const
       w = paper_log_pstar_step(bsdf.continuation, v.pdf_uv, e.w);  // (10)
     if (c == 0 && light_sampling) {
       float4 direct = e_in[p * it.chains + it.direct_chain];  // already weighted per fragment
-      reflected += transfer * make_float3(direct.x, direct.y, direct.z);
-      Rng rng = rng_init(light_seed, p, iteration);
-      // a black patch reflects no light sample; the others take one at the rate it.light_rate
-      if (bsdf.continuation > 0.0f && (it.light_rate >= 1.0f || rng_uniform(&rng) < it.light_rate))
-        reflected += rb_light_sample(&elements[pe & ~BP_BACK_SIDE], n, &bsdf, wo, nodes, triangles, lights, light_cdf,
-                                   materials, &it, &rng, ray_epsilon);
+      reflected += transfer * make_float3(direct.x, direct.y, direct.z) + rb_light_reflected(&ls, &bsdf, n, wo, &it);
       emitted = make_float3(0.0f, 0.0f, 0.0f);
     }
-    if (light_sampling && c == it.direct_chain) emitted = reflected = make_float3(0.0f, 0.0f, 0.0f);  // unused
+    if (light_sampling && (c == it.direct_chain || c == eye_chain))
+      emitted = reflected = make_float3(0.0f, 0.0f, 0.0f);  // unused: direct chains are received from Le
     if (c == 0 && it.weight_mode == BP_WEIGHTS_PAPER) w = paper_log_p_out(emitted, reflected, w);
     float3 l = emitted + reflected;
     l_out[p * it.chains + c] = (float4)(l.x, l.y, l.z, w);
@@ -181,22 +215,31 @@ static void sides_along(__global const BundleElement* e, float3 omega, uint* min
   *plus_patch = front_faces_minus ? e->back_patch : e->front_patch;
 }
 
-// Light straight from an emitter, as the direct chain of a receiving patch takes it: the sender's
-// Le weighted as the RB bundle technique of the last segment (DESIGN.md §3). The light travels along
+// Light straight from an emitter, as a direct chain of a receiving patch takes it: the sender's Le
+// weighted as the RB bundle technique of the last segment (DESIGN.md §3). The light travels along
 // `travel` over `distance` (the fragments' depth difference) from the sender element to the
-// receiver's side with normal n_receiver; the receiver will send it along omega_next.
+// receiver's side with normal n_receiver. For the direct chain the receiver will send it along
+// omega_next (PT's density of that pair); for the eye chain (eye_vertex) the eye sees the receiver,
+// and the view-independent proxy stands in for PT's density.
 static float4 rb_direct_received(__global const BundleElement* elements, __global const Material* materials,
                                  uint sender_element, uint receiver_element, float3 n_receiver, float3 travel,
-                                 float distance, const BundleIteration* it) {
+                                 float distance, int eye_vertex, const BundleIteration* it) {
   __global const BundleElement* se = &elements[sender_element];
   __global const Material* sm = &materials[se->material];
   float3 le = bp_load3(sm->emission);
   if (le.x + le.y + le.z <= 0.0f) return (float4)(0.0f);
   float p_light = light_pdf_uv_area(sm->light_pdf_area, distance, fabs(dot(bp_load3(se->normal), travel)));
   Bsdf receiver = bsdf_from_material(&materials[elements[receiver_element].material]);
-  float3 wi = facing(n_receiver, travel), wo = facing(n_receiver, bp_private3(it->omega_next));
-  float pdf_bsdf = receiver.continuation * bsdf_pdf_uv(&receiver, n_receiver, wi, wo);
-  float w = last_segment_weights(1.0f, it->weight_ratio, it->light_rate, pdf_bsdf, p_light, 0).rb_bundle;
+  float3 wi = facing(n_receiver, travel);
+  float w;
+  if (eye_vertex) {
+    float proxy = eye_direct_proxy_pdf_uv(&receiver, dot(n_receiver, wi));
+    w = eye_segment_weights(it->weight_ratio, it->light_rate, proxy, 0.0f, p_light, 0).rb_bundle;
+  } else {
+    float3 wo = facing(n_receiver, bp_private3(it->omega_next));
+    float pdf_bsdf = receiver.continuation * bsdf_pdf_uv(&receiver, n_receiver, wi, wo);
+    w = last_segment_weights(1.0f, it->weight_ratio, it->light_rate, pdf_bsdf, p_light, 0).rb_bundle;
+  }
   return (float4)(le.x * w, le.y * w, le.z * w, 0.0f);
 }
 
@@ -225,7 +268,9 @@ __kernel void rb_tile_resolve(__global const BundleElement* elements, __global c
 
   const float3 omega = bp_private3(it.omega);
   const float4 nothing = (float4)(0.0f, 0.0f, 0.0f, BP_NO_SENDER);  // black, and no P
-  const uint chains = it.chains, direct = BP_FEATURE_LIGHT_SAMPLING && it.light_count > 0u ? it.direct_chain : chains;  // chains: none
+  const int light_sampling = BP_FEATURE_LIGHT_SAMPLING && it.light_count > 0u;
+  const uint chains = it.chains, direct = light_sampling ? it.direct_chain : chains;  // chains: none
+  const uint eye = light_sampling && it.eye_direct_chain ? it.eye_direct_chain : chains;
   for (uint b = 0; b < BP_TILE_BINS; ++b) {
     uint first = begin + bin_start[b], last = begin + bin_start[b + 1];
     if (first == last) continue;
@@ -248,10 +293,10 @@ __kernel void rb_tile_resolve(__global const BundleElement* elements, __global c
       float3 n = bp_load3(elements[element].normal);
       for (uint c = 0; c < chains; ++c) {
         float4 r = nothing;
-        if (sender != BP_NO_PATCH && c == direct && minus_patch != BP_NO_PATCH)
+        if (sender != BP_NO_PATCH && (c == direct || c == eye) && minus_patch != BP_NO_PATCH)
           r = rb_direct_received(elements, materials, sender_element, element, facing(-omega, n), omega,
-                                 depth - sender_depth, &it);
-        else if (sender != BP_NO_PATCH && c != direct)
+                                 depth - sender_depth, c == eye, &it);
+        else if (sender != BP_NO_PATCH && c != direct && c != eye)
           r = l_out[sender * chains + c];
         received_minus[fragment * chains + c] = r;
       }
@@ -270,10 +315,10 @@ __kernel void rb_tile_resolve(__global const BundleElement* elements, __global c
       }
       for (uint c = 0; c < chains; ++c) {
         float4 r = nothing;
-        if (next_minus != BP_NO_PATCH && c == direct && own_plus != BP_NO_PATCH)
+        if (next_minus != BP_NO_PATCH && (c == direct || c == eye) && own_plus != BP_NO_PATCH)
           r = rb_direct_received(elements, materials, next_element, element, facing(omega, n), -omega,
-                                 next_depth - depth, &it);
-        else if (next_minus != BP_NO_PATCH && c != direct)
+                                 next_depth - depth, c == eye, &it);
+        else if (next_minus != BP_NO_PATCH && c != direct && c != eye)
           r = l_out[next_minus * chains + c];
         received_plus[fragment * chains + c] = r;
       }
@@ -390,7 +435,7 @@ __kernel void rb_eye(__global const EyeHit* hits, __global const BundleElement* 
                      __global const uint* patch_element, __global const Material* materials,
                      __global const float4* e_in, __global const uint* patch_vertices,
                      __global const float4* e_vertex, const uint gouraud, const BundleIteration it,
-                     const uint pixels, __global float4* pixel_sum) {
+                     const uint pixels, __global float4* pixel_sum, __global const float4* eye_light) {
   uint pixel = (uint)get_global_id(0);
   if (pixel >= pixels) return;
   EyeHit h = hits[pixel];
@@ -410,6 +455,15 @@ __kernel void rb_eye(__global const EyeHit* hits, __global const BundleElement* 
     // With light sampling the eye vertex's emission, like its direct light, is PT's alone.
     weighted = (BP_FEATURE_LIGHT_SAMPLING && it.light_count > 0u ? make_float3(0.0f, 0.0f, 0.0f) : bsdf.emission) +
                reflected0 * vertex_beta(bsdf.continuation, v.pdf_uv, it.weight_ratio, it.beta_heuristic);
+    if (BP_FEATURE_LIGHT_SAMPLING && it.light_count > 0u && it.eye_direct_chain) {
+      // --eye-direct shared: the eye vertex's direct light, weighted per fragment and per shadow ray
+      // as RB's techniques of its last segment (no beta: that vertex is the segment's start).
+      float4 ed = eye_irradiance(&h, e_in, patch_vertices, e_vertex, gouraud, it.chains, it.eye_direct_chain);
+      float4 el = eye_light[2 * h.patch], el_dir = eye_light[2 * h.patch + 1];
+      weighted += transfer * make_float3(ed.x, ed.y, ed.z);
+      if (el.x + el.y + el.z > 0.0f)
+        weighted += bsdf_evaluate(&bsdf, n, make_float3(el_dir.x, el_dir.y, el_dir.z), wo).f * make_float3(el.x, el.y, el.z);
+    }
   } else if (it.weight_mode == BP_WEIGHTS_PAPER) {
     float log_pstar = paper_log_pstar_step(bsdf.continuation, v.pdf_uv, e0.w);  // (10) at the eye vertex
     weighted = bsdf.emission * paper_rb_weight(0.0f, it.weight_ratio) +  // the emitter seen directly: P = 1

@@ -65,6 +65,9 @@ options (defaults in brackets):
   --rb-light-rate R   combined with light sampling: the probability that a patch traces its
                       shadow ray in an iteration, in (0, 1] (the weights count R·N2 samples)
                                                                 [min(1, pixels / patches)]
+  --eye-direct E      combined with light sampling: the eye vertex's direct light split with
+                      RB by the four techniques (shared; RB's share from a view-independent
+                      proxy of PT's density) or PT's alone (pt)               [shared]
   --ratio C           combined: PT samples per pixel per RB iteration         [1/4]
                       0: ray bundles alone (w_RB = 1; count with --iterations or --time)
   --no-light-sampling turn light sampling off: emitters are then reached by BSDF sampling (pt)
@@ -132,6 +135,10 @@ RenderOptions parse_render_options(const std::vector<std::string>& args) {
          if (v != "clamped" && v != "balance")
            throw UsageError(k + ": unknown beta '" + v + "' (available: clamped, balance)");
          o.beta = v;
+       }},
+      {"--eye-direct", [&](auto& k, auto& v) {
+         if (v != "shared" && v != "pt") throw UsageError(k + ": expected shared or pt, got '" + v + "'");
+         o.eye_direct = v;
        }},
       {"--rb-light-rate", [&](auto& k, auto& v) {
          o.light_rate = parse_number<float>(k, v, 1e-6f, 1.0f, "a probability in (0, 1]");

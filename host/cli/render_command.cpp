@@ -73,6 +73,7 @@ std::string options_key(const RenderOptions& o, int width, int height, float pat
            ";shading=" + (o.gouraud ? "gouraud" : "flat");
   if (shape)
     key += ";weights=" + o.weights + ";beta=" + o.beta + ";light_rate=" + std::to_string(o.light_rate) +
+           ";eye_direct=" + o.eye_direct +
            ";round=" + std::to_string(shape->pt_samples) + "spp+" + std::to_string(shape->rb_iterations) + "it";
   return key;
 }
@@ -137,6 +138,8 @@ int run_render(const RenderOptions& o) {
   const float light_rate =
       o.light_rate > 0.0f ? o.light_rate : default_light_rate(patches.patch_count, std::size_t(width) * height);
   const std::string kernel_opts = o.generic_kernels ? "" : kernel_options(features_for(scene, light_sampling));
+  // Both passes or neither: the split is exact only when PT and RB weight the eye vertex alike.
+  const bool eye_direct_shared = light_sampling && o.eye_direct == "shared";
   Accumulator pt_accum(width, height, o.all_layers), rb_accum(width, height, o.all_layers);
 
   std::unique_ptr<PathTracerPass> pt;
@@ -149,6 +152,7 @@ int run_render(const RenderOptions& o) {
     settings.beta_heuristic = beta_heuristic_of(o);
     settings.rb_light_rate = light_rate;
     settings.light_sampling = light_sampling;
+    settings.eye_direct_shared = eye_direct_shared;
     settings.kernel_options = kernel_opts;
     pt = std::make_unique<PathTracerPass>(device, device_scene, camera, settings, pt_accum);
   }
@@ -162,6 +166,7 @@ int run_render(const RenderOptions& o) {
     rb_settings.warmup = o.warmup;
     rb_settings.gouraud = o.gouraud;
     rb_settings.light_sampling = light_sampling;
+    rb_settings.eye_direct_shared = eye_direct_shared;
     rb_settings.kernel_options = kernel_opts;
     rb_settings.weight_mode = weight_mode;
     rb_settings.weight_ratio = ratio_n2_over_n1;
@@ -328,6 +333,7 @@ int run_render(const RenderOptions& o) {
       stats["weights"] = o.weights;
       if (weight_mode == BP_WEIGHTS_PRODUCT) stats["beta"] = o.beta;
       if (light_sampling && rb) stats["rb_light_rate"] = light_rate;
+      if (light_sampling && rb) stats["eye_direct"] = o.eye_direct;
       stats["ratio"] = shape->ratio();
       stats["rounds"] = outcome.rounds;
     }

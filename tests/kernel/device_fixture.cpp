@@ -110,6 +110,7 @@ CombinedRun render_combined(const Scene& scene, int width, int height, const Com
   pts.beta_heuristic = cs.beta_heuristic;
   pts.rb_light_rate = cs.light_rate;
   pts.light_sampling = cs.light_sampling;
+  pts.eye_direct_shared = cs.eye_direct_shared;
   PathTracerPass pt(device, device_scene, camera, pts, pt_accum);
   RayBundleSettings rbs;
   rbs.seed = cs.seed;
@@ -120,6 +121,7 @@ CombinedRun render_combined(const Scene& scene, int width, int height, const Com
   rbs.beta_heuristic = cs.beta_heuristic;
   rbs.light_rate = cs.light_rate;
   rbs.light_sampling = cs.light_sampling;
+  rbs.eye_direct_shared = cs.eye_direct_shared;
   RayBundlePass rb(device, device_scene, geometry, camera, rbs, rb_accum);
   CombinedPass combined(pt, rb, shape);
   std::atomic<bool> never{false};

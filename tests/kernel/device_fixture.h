@@ -64,6 +64,7 @@ struct CombinedSettings {
   bool light_sampling = false;
   std::uint32_t beta_heuristic = BP_BETA_CLAMPED;
   float light_rate = 1.0f;  // RB's light-sample rate (light sampling)
+  bool eye_direct_shared = false;  // light sampling: the eye vertex's direct light split with RB
 };
 CombinedRun render_combined(const Scene& scene, int width, int height, const CombinedSettings& settings);
 

@@ -13,8 +13,9 @@ namespace {
 
 CombinedRun combined_run(const Scene& scene, std::uint32_t mode, std::uint64_t rounds, std::uint32_t seed,
                          bool light_sampling = false, std::uint32_t beta_heuristic = BP_BETA_CLAMPED,
-                         float light_rate = 1.0f) {
+                         float light_rate = 1.0f, bool eye_direct_shared = false) {
   CombinedSettings cs;
+  cs.eye_direct_shared = eye_direct_shared;
   cs.beta_heuristic = beta_heuristic;
   cs.light_rate = light_rate;
   cs.light_sampling = light_sampling;
@@ -49,15 +50,18 @@ TEST(Combination, ProductWeightsConvergeToThePathTracedReferenceAndThePlainSumDo
 // Light sampling as a further strategy (DESIGN.md §3): the four techniques of the last segment keep
 // the product combination unbiased, for an area light and for a point light (which only the PT and
 // RB light samples reach), with every patch tracing its light sample each iteration and with a
-// quarter of them (the rate large scenes get; the weights count rate x N2 RB light samples).
+// quarter of them (the rate large scenes get; the weights count rate x N2 RB light samples), with
+// the eye vertex's direct light PT's alone and shared with RB.
 void expect_light_sampled_combination_unbiased(const Scene& scene, float light_rate) {
   const int runs = 8;
   Sample reference = independent_runs(runs, [&](std::uint32_t seed) { return render_pt(scene, kSize, kSize, 256, seed).image; });
-  Sample combined = independent_runs(runs, [&](std::uint32_t seed) {
-    return combined_run(scene, BP_WEIGHTS_PRODUCT, 64, seed + 1, true, BP_BETA_CLAMPED, light_rate).combined;
-  });
-  for (const std::string& d : significant_differences(combined, reference, runs))
-    ADD_FAILURE() << "RB light rate " << light_rate << ", " << d;
+  for (bool eye_shared : {false, true}) {
+    Sample combined = independent_runs(runs, [&](std::uint32_t seed) {
+      return combined_run(scene, BP_WEIGHTS_PRODUCT, 64, seed + 1, true, BP_BETA_CLAMPED, light_rate, eye_shared).combined;
+    });
+    for (const std::string& d : significant_differences(combined, reference, runs))
+      ADD_FAILURE() << "RB light rate " << light_rate << (eye_shared ? ", eye direct shared, " : ", ") << d;
+  }
 }
 
 TEST(Combination, LightSamplingKeepsTheProductWeightsUnbiasedUnderAnAreaLight) {
