@@ -102,6 +102,7 @@ __kernel void rb_outgoing(__global const BundleElement* elements, __global const
   const uint eye_chain = light_sampling && it.eye_direct_chain ? it.eye_direct_chain : it.chains;  // chains: none
   PatchLightSample ls;
   ls.irradiance = make_float3(0.0f, 0.0f, 0.0f);
+  ls.wi = n;  // where no sample is taken: a direction rb_eye may reflect zero along
   if (light_sampling) {
     Rng rng = rng_init(light_seed, p, iteration);
     // a black patch reflects no light sample; the others take one at the rate it.light_rate
@@ -398,34 +399,42 @@ __kernel void rb_eye_hits(__global const BvhNode* nodes, __global const BvhTrian
   hits[pixel] = out;
 }
 
-// Gouraud vertices: the area-weighted mean E_in (every chain, P too) of the patches around each
-// welded corner.
+// Values per patch that the eye estimate interpolates: every chain, and with --eye-direct shared the
+// patches' light samples for the eye (eye_light) in one slot more.
+static uint eye_slots(const BundleIteration* it) {
+  return it->chains + (BP_FEATURE_LIGHT_SAMPLING && it->light_count > 0u && it->eye_direct_chain ? 1u : 0u);
+}
+
+// Gouraud vertices: the area-weighted mean E_in (every chain, P too, and the eye's light samples) of
+// the patches around each welded corner.
 __kernel void rb_vertex(__global const uint* vertex_patch_start, __global const uint* vertex_patches,
                         __global const BundleElement* elements, __global const uint* patch_element,
                         __global const float4* e_in, const BundleIteration it, const uint vertices,
-                        __global float4* e_vertex) {
+                        __global float4* e_vertex, __global const float4* eye_light) {
   uint v = (uint)get_global_id(0);
   if (v >= vertices) return;
-  for (uint c = 0; c < it.chains; ++c) {
+  const uint slots = eye_slots(&it);
+  for (uint c = 0; c < slots; ++c) {
     float4 sum = (float4)(0.0f);
     float area = 0.0f;
     for (uint k = vertex_patch_start[v]; k < vertex_patch_start[v + 1]; ++k) {
       uint p = vertex_patches[k];
       float a = elements[patch_element[p] & ~BP_BACK_SIDE].area;
-      sum += e_in[p * it.chains + c] * a;
+      sum += (c < it.chains ? e_in[p * it.chains + c] : eye_light[2 * p]) * a;
       area += a;
     }
-    e_vertex[v * it.chains + c] = area > 0.0f ? sum / area : (float4)(0.0f);
+    e_vertex[v * slots + c] = area > 0.0f ? sum / area : (float4)(0.0f);
   }
 }
 
-// E_in of one chain at an eye hit: the patch's own (flat) or interpolated from its corners (Gouraud).
-static float4 eye_irradiance(const EyeHit* h, __global const float4* e_in, __global const uint* patch_vertices,
-                             __global const float4* e_vertex, uint gouraud, uint chains, uint c) {
-  if (!gouraud) return e_in[h->patch * chains + c];
+// One interpolated value at an eye hit: the patch's own (`flat`) or interpolated from its corners'
+// `slot` (Gouraud).
+static float4 eye_irradiance(const EyeHit* h, float4 flat, __global const uint* patch_vertices,
+                             __global const float4* e_vertex, uint gouraud, uint slots, uint slot) {
+  if (!gouraud) return flat;
   __global const uint* pv = &patch_vertices[3 * h->patch];
-  return e_vertex[pv[0] * chains + c] * (1.0f - h->l1 - h->l2) + e_vertex[pv[1] * chains + c] * h->l1 +
-         e_vertex[pv[2] * chains + c] * h->l2;
+  return e_vertex[pv[0] * slots + slot] * (1.0f - h->l1 - h->l2) + e_vertex[pv[1] * slots + slot] * h->l1 +
+         e_vertex[pv[2] * slots + slot] * h->l2;
 }
 
 // 6. Eye estimate of this iteration: the primary hit reflects its patch's incoming radiance towards
@@ -447,7 +456,8 @@ __kernel void rb_eye(__global const EyeHit* hits, __global const BundleElement* 
   float3 wi = facing(n, bp_private3(it.omega));
   BsdfValue v = bsdf_evaluate(&bsdf, n, wi, wo);
   float3 transfer = v.f * BP_TWO_PI;
-  float4 e0 = eye_irradiance(&h, e_in, patch_vertices, e_vertex, gouraud, it.chains, 0u);
+  const uint slots = eye_slots(&it);
+  float4 e0 = eye_irradiance(&h, e_in[h.patch * it.chains], patch_vertices, e_vertex, gouraud, slots, 0u);
   float3 reflected0 = transfer * make_float3(e0.x, e0.y, e0.z);
   float3 weighted;
   if (it.weight_mode == BP_WEIGHTS_PRODUCT) {
@@ -458,8 +468,12 @@ __kernel void rb_eye(__global const EyeHit* hits, __global const BundleElement* 
     if (BP_FEATURE_LIGHT_SAMPLING && it.light_count > 0u && it.eye_direct_chain) {
       // --eye-direct shared: the eye vertex's direct light, weighted per fragment and per shadow ray
       // as RB's techniques of its last segment (no beta: that vertex is the segment's start).
-      float4 ed = eye_irradiance(&h, e_in, patch_vertices, e_vertex, gouraud, it.chains, it.eye_direct_chain);
-      float4 el = eye_light[2 * h.patch], el_dir = eye_light[2 * h.patch + 1];
+      // The light samples' irradiance is interpolated like the chains; it is reflected along the hit
+      // patch's own sample direction (exact for Lambert eye vertices, a patch-level stand-in otherwise).
+      float4 ed = eye_irradiance(&h, e_in[h.patch * it.chains + it.eye_direct_chain], patch_vertices, e_vertex,
+                                 gouraud, slots, it.eye_direct_chain);
+      float4 el = eye_irradiance(&h, eye_light[2 * h.patch], patch_vertices, e_vertex, gouraud, slots, it.chains);
+      float4 el_dir = eye_light[2 * h.patch + 1];
       weighted += transfer * make_float3(ed.x, ed.y, ed.z);
       if (el.x + el.y + el.z > 0.0f)
         weighted += bsdf_evaluate(&bsdf, n, make_float3(el_dir.x, el_dir.y, el_dir.z), wo).f * make_float3(el.x, el.y, el.z);
@@ -475,7 +489,8 @@ __kernel void rb_eye(__global const EyeHit* hits, __global const BundleElement* 
   if (it.eye_outputs > 1) {
     float3 raw = bsdf.emission + reflected0;
     if (it.weight_mode == BP_WEIGHTS_PRODUCT) {
-      float4 e1 = eye_irradiance(&h, e_in, patch_vertices, e_vertex, gouraud, it.chains, it.chains - 1u);
+      float4 e1 = eye_irradiance(&h, e_in[h.patch * it.chains + it.chains - 1u], patch_vertices, e_vertex, gouraud,
+                                 slots, it.chains - 1u);
       raw = bsdf.emission + transfer * make_float3(e1.x, e1.y, e1.z);
     }
     pixel_sum[pixel * it.eye_outputs + 1] += (float4)(raw.x, raw.y, raw.z, 0.0f);

@@ -77,7 +77,7 @@ std::size_t estimate_bundle_memory(const BundleSize& size, std::uint32_t bins, s
   std::size_t tiles_per_side = bundle_tiles_per_side(bins + 1), tiles = tiles_per_side * tiles_per_side + 1;
   return slot_estimate(size, bins) * kSlotBytes + tiled_capacity(size, bins, chains) * tiled_fragment_bytes(chains) +
          tiles * 2 * sizeof(cl_uint) + size.patches * (4 * sizeof(cl_uint) + 2 * chains * sizeof(cl_float4)) +
-         size.patches * 2 * sizeof(cl_float4) +  // the eye vertex's light samples (at most; else one entry)
+         size.patches * 5 * sizeof(cl_float4) +  // the eye vertex's light samples and their Gouraud vertices (at most)
          size.elements * (sizeof(BundleElement) + 2 * sizeof(cl_uint)) +
          size.patches * 3 * (sizeof(cl_uint) + chains * sizeof(cl_float4)) +  // Gouraud vertices (at most 3 per patch)
          pixels * (sizeof(EyeHit) + 2 * sizeof(cl_float4));
@@ -133,7 +133,9 @@ RayBundlePass::RayBundlePass(const DeviceContext& device, const DeviceScene& sce
   patch_vertices_ = upload_buffer(device, "patch vertices", geometry.patch_vertices);
   vertex_patch_start_ = upload_buffer(device, "vertex patch offsets", geometry.vertex_patch_start);
   vertex_patches_ = upload_buffer(device, "vertex patches", geometry.vertex_patches);
-  e_vertex_ = make_buffer(device, "vertex irradiance", CL_MEM_READ_WRITE, vertex_count_ * chains_ * sizeof(cl_float4));
+  // Per vertex: every chain, and with --eye-direct shared the eye's light samples (rb_vertex).
+  const std::size_t vertex_slots = chains_ + (shares_eye_direct(settings) ? 1 : 0);
+  e_vertex_ = make_buffer(device, "vertex irradiance", CL_MEM_READ_WRITE, vertex_count_ * vertex_slots * sizeof(cl_float4));
   e_in_ = make_buffer(device, "patch irradiance", CL_MEM_READ_WRITE, patch_count_ * chains_ * sizeof(cl_float4));
   l_out_ =
       make_buffer(device, "patch outgoing radiance", CL_MEM_READ_WRITE, patch_count_ * chains_ * sizeof(cl_float4));
@@ -273,7 +275,7 @@ BatchCounts RayBundlePass::run(std::uint64_t first, std::uint32_t count) {
     const BundleIteration it = iteration_params(iteration);
     if (settings_.gouraud) {
       set_args(vertex_, vertex_patch_start_, vertex_patches_, elements_, patch_element_, e_in_, it,
-               as_uint(vertex_count_), e_vertex_);
+               as_uint(vertex_count_), e_vertex_, eye_light_);
       launcher_.launch("rb_vertex", vertex_, vertex_count_, 64);
     }
     set_args(eye_, eye_hits_buffer_, elements_, patch_element_, scene_.materials, e_in_, patch_vertices_, e_vertex_,
