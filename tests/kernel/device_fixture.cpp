@@ -16,11 +16,11 @@ const DeviceContext& test_device() {
 }
 
 RenderRun render_pt(const Scene& scene, int width, int height, std::uint64_t spp, std::uint32_t seed,
-                    std::uint32_t max_depth, bool light_sampling) {
+                    std::uint32_t max_depth, bool light_sampling, std::uint32_t light_selection) {
   const DeviceContext& device = test_device();
   PatchLayout patches = build_patch_layout(scene, default_patch_size(scene));
   FlatBvh bvh = build_bvh(scene.triangles);
-  DeviceScene device_scene(device, scene, patches, bvh);
+  DeviceScene device_scene(device, scene, patches, bvh, light_selection);
   PathTracerSettings settings;
   settings.seed = seed;
   settings.max_depth = max_depth;
@@ -98,7 +98,7 @@ CombinedRun render_combined(const Scene& scene, int width, int height, const Com
   PatchLayout patches = build_patch_layout(scene, cs.patch_size);
   FlatBvh bvh = build_bvh(scene.triangles);
   BundleGeometry geometry = build_bundle_geometry(scene, patches);
-  DeviceScene device_scene(device, scene, patches, bvh);
+  DeviceScene device_scene(device, scene, patches, bvh, cs.light_selection);
   const CameraParams camera = pack_camera(scene.camera, width, height);
   const RoundShape shape{cs.pt_samples_per_round, cs.rb_iterations_per_round};
   const CombinedWeights weights = combined_weights(cs.weight_mode, shape);  // pt_samples_per_round 0: RB alone

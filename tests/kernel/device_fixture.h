@@ -22,7 +22,8 @@ struct RenderRun {
 };
 
 RenderRun render_pt(const Scene& scene, int width, int height, std::uint64_t spp, std::uint32_t seed,
-                    std::uint32_t max_depth = 65536, bool light_sampling = true);
+                    std::uint32_t max_depth = 65536, bool light_sampling = true,
+                    std::uint32_t light_selection = BP_LIGHT_SELECTION_TREE);
 
 // Everything a ray-bundle test needs, built from a Scene the way the CLI builds it.
 struct BundleRig {
@@ -64,6 +65,7 @@ struct CombinedSettings {
   bool light_sampling = false;
   std::uint32_t beta_heuristic = BP_BETA_CLAMPED;
   float light_rate = 1.0f;  // RB's light-sample rate (light sampling)
+  std::uint32_t light_selection = BP_LIGHT_SELECTION_TREE;  // BP_LIGHT_SELECTION_*
 };
 CombinedRun render_combined(const Scene& scene, int width, int height, const CombinedSettings& settings);
 
