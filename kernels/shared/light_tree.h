@@ -54,8 +54,8 @@ BP_FN float light_node_importance(BP_GLOBAL const LightTreeNode* node, float3 ce
   const float margin = 1e-3f, plane_margin = 1e-4f, floor_cos = 1e-3f;  // margins for rounding: in cos, in radii
   float3 lo = bp_load3(node->lo), hi = bp_load3(node->hi);
   float3 to_node = (lo + hi) * 0.5f - centroid;
-  float3 half = (hi - lo) * 0.5f;
-  float node_radius = sqrt(dot(half, half)), reach = node_radius + radius;
+  float3 half_size = (hi - lo) * 0.5f;
+  float node_radius = sqrt(dot(half_size, half_size)), reach = node_radius + radius;
   float d2 = dot(to_node, to_node);
   float d = sqrt(d2);
   // The bounding spheres overlap: every direction is possible, no angle can cull.
@@ -68,7 +68,7 @@ BP_FN float light_node_importance(BP_GLOBAL const LightTreeNode* node, float3 ce
     dir = to_node / d;
   }
   // The patch is flat: it sees only what lies above its plane (up to the margin).
-  float above = dot(normal, to_node) + fabs(normal.x) * half.x + fabs(normal.y) * half.y + fabs(normal.z) * half.z;
+  float above = dot(normal, to_node) + fabs(normal.x) * half_size.x + fabs(normal.y) * half_size.y + fabs(normal.z) * half_size.z;
   if (above < -plane_margin * radius) return 0.0f;
   // One-sided lights that all face one way (a panel): some point of the patch must be in front of
   // some point of the bounds; the patch reaches radius along the part of axis in its plane, and
@@ -76,7 +76,7 @@ BP_FN float light_node_importance(BP_GLOBAL const LightTreeNode* node, float3 ce
   float3 axis = bp_load3(node->axis);
   if (node->cos_theta_o >= 1.0f && node->cos_theta_e <= 0.0f && !(node->flags & BP_LIGHT_NODE_TWO_SIDED)) {
     float along = dot(axis, normal);
-    float front = -dot(axis, to_node) + fabs(axis.x) * half.x + fabs(axis.y) * half.y + fabs(axis.z) * half.z +
+    float front = -dot(axis, to_node) + fabs(axis.x) * half_size.x + fabs(axis.y) * half_size.y + fabs(axis.z) * half_size.z +
                   radius * sqrt(fmax(0.0f, 1.0f - along * along)) + 2.0f * node->receiver_offset;
     if (front < -plane_margin * radius) return 0.0f;
   }
