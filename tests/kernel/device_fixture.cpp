@@ -156,6 +156,36 @@ Scene make_glossy_light_box() {
   return scene;
 }
 
+Scene make_multi_light_box() {
+  Scene scene = make_glossy_light_box();
+  SceneMaterial partition = scene.materials[0], wall_light, hanging;
+  partition.double_sided = true;
+  wall_light.kd = hanging.kd = glm::vec3(0.0f);
+  wall_light.emission = glm::vec3(6.0f, 5.0f, 4.0f);
+  hanging.emission = glm::vec3(2.0f, 3.0f, 4.0f);
+  hanging.double_sided = true;
+  const std::uint32_t m = std::uint32_t(scene.materials.size());
+  scene.materials.insert(scene.materials.end(), {partition, wall_light, hanging});
+  const float x = 0.2f, top = 0.3f;
+  scene.triangles.push_back({{{x, -0.5f, -0.5f}, {x, top, -0.5f}, {x, top, 0.5f}}, m});
+  scene.triangles.push_back({{{x, -0.5f, -0.5f}, {x, top, 0.5f}, {x, -0.5f, 0.5f}}, m});
+  const float w = 0.499f;  // on the +x wall, facing -x: counter-clockwise seen from -x
+  scene.triangles.push_back({{{w, -0.1f, -0.1f}, {w, -0.1f, 0.1f}, {w, 0.1f, 0.1f}}, m + 1});
+  scene.triangles.push_back({{{w, -0.1f, -0.1f}, {w, 0.1f, 0.1f}, {w, 0.1f, -0.1f}}, m + 1});
+  scene.triangles.push_back({{{-0.3f, 0.1f, -0.2f}, {-0.2f, 0.1f, -0.25f}, {-0.25f, 0.25f, -0.2f}}, m + 2});
+  ScenePunctualLight point, spot;
+  point.position = glm::vec3(-0.25f, -0.3f, 0.1f);
+  point.intensity = glm::vec3(0.05f, 0.06f, 0.08f);
+  spot.kind = ScenePunctualLight::Kind::spot;
+  spot.position = glm::vec3(-0.1f, 0.35f, -0.3f);
+  spot.direction = glm::normalize(glm::vec3(0.2f, -1.0f, 0.1f));
+  spot.intensity = glm::vec3(0.3f);
+  spot.inner_cone = 0.2f;
+  spot.outer_cone = 0.6f;
+  scene.lights = {point, spot};
+  return scene;
+}
+
 Scene make_closed_box(float h, const SceneMaterial& material) {
   Scene scene;
   scene.materials.push_back(material);

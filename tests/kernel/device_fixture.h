@@ -73,6 +73,11 @@ CombinedRun render_combined(const Scene& scene, int width, int height, const Com
 // 0.3 m square light (Le 8) just below the ceiling, facing down.
 Scene make_glossy_light_box();
 
+// The glossy light box divided by a double-sided partition (x = 0.2, up to 0.2 m below the ceiling)
+// and lit by five lights of every kind: the ceiling panel, a panel on the +x wall behind the
+// partition, a small double-sided triangle hanging in the room, a point light and a spot light.
+Scene make_multi_light_box();
+
 // A closed axis-aligned box [-h,h]^3 seen from inside: 12 triangles facing inwards, one material.
 Scene make_closed_box(float half_size, const SceneMaterial& material);
 

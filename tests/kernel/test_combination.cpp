@@ -13,8 +13,9 @@ namespace {
 
 CombinedRun combined_run(const Scene& scene, std::uint32_t mode, std::uint64_t rounds, std::uint32_t seed,
                          bool light_sampling = false, std::uint32_t beta_heuristic = BP_BETA_CLAMPED,
-                         float light_rate = 1.0f) {
+                         float light_rate = 1.0f, std::uint32_t light_selection = BP_LIGHT_SELECTION_TREE) {
   CombinedSettings cs;
+  cs.light_selection = light_selection;
   cs.beta_heuristic = beta_heuristic;
   cs.light_rate = light_rate;
   cs.light_sampling = light_sampling;
@@ -50,19 +51,35 @@ TEST(Combination, ProductWeightsConvergeToThePathTracedReferenceAndThePlainSumDo
 // the product combination unbiased, for an area light and for a point light (which only the PT and
 // RB light samples reach), with every patch tracing its light sample each iteration and with a
 // quarter of them (the rate large scenes get; the weights count rate x N2 RB light samples).
-void expect_light_sampled_combination_unbiased(const Scene& scene, float light_rate) {
+// Lights chosen by the light tree (the default) or by power; the reference is PT choosing by power.
+void expect_light_sampled_combination_unbiased(const Scene& scene, float light_rate,
+                                               std::uint32_t light_selection = BP_LIGHT_SELECTION_TREE) {
   const int runs = 8;
-  Sample reference = independent_runs(runs, [&](std::uint32_t seed) { return render_pt(scene, kSize, kSize, 256, seed).image; });
+  Sample reference = independent_runs(runs, [&](std::uint32_t seed) {
+    return render_pt(scene, kSize, kSize, 256, seed, 65536, true, BP_LIGHT_SELECTION_POWER).image;
+  });
   Sample combined = independent_runs(runs, [&](std::uint32_t seed) {
-    return combined_run(scene, BP_WEIGHTS_PRODUCT, 64, seed + 1, true, BP_BETA_CLAMPED, light_rate).combined;
+    return combined_run(scene, BP_WEIGHTS_PRODUCT, 64, seed + 1, true, BP_BETA_CLAMPED, light_rate, light_selection)
+        .combined;
   });
   for (const std::string& d : significant_differences(combined, reference, runs))
-    ADD_FAILURE() << "RB light rate " << light_rate << ", " << d;
+    ADD_FAILURE() << "RB light rate " << light_rate << ", selection "
+                  << (light_selection == BP_LIGHT_SELECTION_TREE ? "tree" : "power") << ", " << d;
 }
 
 TEST(Combination, LightSamplingKeepsTheProductWeightsUnbiasedUnderAnAreaLight) {
   expect_light_sampled_combination_unbiased(make_glossy_light_box(), 1.0f);
   expect_light_sampled_combination_unbiased(make_glossy_light_box(), 0.25f);
+}
+
+// Five lights of every kind, some behind a partition: with the light tree, p_L differs per receiving
+// patch, and PT and RB must still evaluate the same one (DESIGN.md §3, light selection).
+TEST(Combination, LightSamplingKeepsTheProductWeightsUnbiasedUnderManyLightsChosenByTheTree) {
+  expect_light_sampled_combination_unbiased(make_multi_light_box(), 0.25f, BP_LIGHT_SELECTION_TREE);
+}
+
+TEST(Combination, LightSamplingKeepsTheProductWeightsUnbiasedUnderManyLightsChosenByPower) {
+  expect_light_sampled_combination_unbiased(make_multi_light_box(), 0.25f, BP_LIGHT_SELECTION_POWER);
 }
 
 TEST(Combination, LightSamplingKeepsTheProductWeightsUnbiasedUnderAPointLight) {
