@@ -159,6 +159,31 @@ TEST(LightTree, SamplingFrequenciesMatchTheSelectionProbabilities) {
   }
 }
 
+// The density that weights an emitter reached otherwise (PT's BSDF hit, RB's bundle) is the one the
+// light sample carried: P(select) / area from the emitter's patch, bit for bit, for both selections.
+TEST(LightTree, TheEmitterHitDensityIsTheLightSamplesDensity) {
+  TreeRig rig(make_rooms_scene(20000, 4), 0.5f);
+  std::vector<Material> materials(rig.scene.materials.size());
+  for (std::size_t m = 0; m < materials.size(); ++m) materials[m].light_pdf_area = rig.list.material_pdf_area[m];
+  std::mt19937 rng(2);
+  std::uniform_int_distribution<std::uint32_t> patch(0, rig.patches.patch_count - 1);
+  std::uniform_real_distribution<float> unit(0.0f, 0.99999994f);
+  for (std::uint32_t selection : {BP_LIGHT_SELECTION_TREE, BP_LIGHT_SELECTION_POWER}) {
+    const LightSet set = rig.set(selection);
+    for (int i = 0; i < 2000; ++i) {
+      const std::uint32_t receiver = patch(rng);
+      const LightPick pick = light_select(&set, receiver, unit(rng));
+      const Light& l = rig.list.lights[pick.light];
+      std::uint32_t t = 0;
+      while (rig.list.light_of_triangle[t] != pick.light) ++t;
+      const std::uint32_t emitter_patch = rig.patches.first_patch[t];
+      const float pdf_area = light_pdf_area_from(&set, materials.data(), receiver, emitter_patch, l.material);
+      if (selection == BP_LIGHT_SELECTION_TREE) EXPECT_EQ(pdf_area, pick.probability / l.area);
+      else EXPECT_NEAR(pdf_area, pick.probability / l.area, 1e-5 * pdf_area);  // one number per material
+    }
+  }
+}
+
 // A scene to try to break the culling: receivers of every size and orientation, small triangle
 // lights (one- and double-sided) of every orientation close to them, point and spot lights.
 Scene light_cloud(std::uint32_t seed) {
