@@ -37,7 +37,7 @@ static float paper_log_p_out(float3 emitted, float3 reflected, float log_p_refle
 }
 
 // The per-patch light sample of DESIGN.md §3: one shadow ray from a random point of the patch to a
-// light chosen by power. `irradiance` is L cos / p_solid over the rate at which patches take this
+// light chosen for the patch. `irradiance` is L cos / p_solid over the rate at which patches take this
 // sample (0 when the light is not reached); the techniques' weights are applied by the callers.
 typedef struct {
   float3 wi;          // towards the light
@@ -47,15 +47,15 @@ typedef struct {
 } PatchLightSample;
 
 static PatchLightSample rb_light_sample(__global const BundleElement* e, float3 n, __global const BvhNode* nodes,
-                                        __global const BvhTriangle* triangles, __global const Light* lights,
-                                        __global const float* light_cdf, __global const Material* materials,
-                                        const BundleIteration* it, Rng* rng, float ray_epsilon) {
+                                        __global const BvhTriangle* triangles, const LightSet* light_set,
+                                        uint patch, __global const Material* materials, const BundleIteration* it,
+                                        Rng* rng, float ray_epsilon) {
   PatchLightSample out;
   out.irradiance = make_float3(0.0f, 0.0f, 0.0f);
   float root = sqrt(rng_uniform(rng)), u = rng_uniform(rng);  // uniform on the element
   float3 x = bp_load3(e->v0) + bp_load3(e->e1) * (root * (1.0f - u)) + bp_load3(e->e2) * (root * u) + n * ray_epsilon;
   float u_pick = rng_uniform(rng), u1 = rng_uniform(rng), u2 = rng_uniform(rng);
-  LightSample ls = light_sample(lights, light_cdf, it->light_count, materials, x, u_pick, u1, u2);
+  LightSample ls = light_sample(light_set, materials, patch, x, u_pick, u1, u2);
   out.wi = ls.wi;
   out.pdf_light = ls.pdf_uv;
   out.is_delta = ls.is_delta;
@@ -88,7 +88,9 @@ __kernel void rb_outgoing(__global const BundleElement* elements, __global const
                           const BundleIteration it, const uint patches, __global float4* l_out,
                           __global const BvhNode* nodes, __global const BvhTriangle* triangles,
                           __global const Light* lights, __global const float* light_cdf, const uint light_seed,
-                          const uint iteration, const float ray_epsilon, __global float4* eye_light) {
+                          const uint iteration, const float ray_epsilon, __global float4* eye_light,
+                          __global const LightTreeNode* light_tree, __global const LightReceiver* light_receivers,
+                          const uint light_selection) {
   uint p = (uint)get_global_id(0);
   if (p >= patches) return;
   uint pe = patch_element[p];
@@ -105,9 +107,10 @@ __kernel void rb_outgoing(__global const BundleElement* elements, __global const
   ls.wi = n;  // where no sample is taken: a direction rb_eye may reflect zero along
   if (light_sampling) {
     Rng rng = rng_init(light_seed, p, iteration);
+    LightSet light_set_ = light_set(lights, light_cdf, light_tree, light_receivers, it.light_count, light_selection);
     // a black patch reflects no light sample; the others take one at the rate it.light_rate
     if (bsdf.continuation > 0.0f && (it.light_rate >= 1.0f || rng_uniform(&rng) < it.light_rate))
-      ls = rb_light_sample(&elements[pe & ~BP_BACK_SIDE], n, nodes, triangles, lights, light_cdf, materials, &it, &rng,
+      ls = rb_light_sample(&elements[pe & ~BP_BACK_SIDE], n, nodes, triangles, &light_set_, p, materials, &it, &rng,
                            ray_epsilon);
   }
   if (eye_chain < it.chains) {
@@ -222,14 +225,17 @@ static void sides_along(__global const BundleElement* e, float3 omega, uint* min
 // receiver's side with normal n_receiver. For the direct chain the receiver will send it along
 // omega_next (PT's density of that pair); for the eye chain (eye_vertex) the eye sees the receiver,
 // and the view-independent proxy stands in for PT's density.
+// The patches: the sender's emitting side, the receiver's receiving side (light selection's receiver).
 static float4 rb_direct_received(__global const BundleElement* elements, __global const Material* materials,
                                  uint sender_element, uint receiver_element, float3 n_receiver, float3 travel,
-                                 float distance, int eye_vertex, const BundleIteration* it) {
+                                 float distance, int eye_vertex, const BundleIteration* it, const LightSet* light_set,
+                                 uint sender_patch, uint receiver_patch) {
   __global const BundleElement* se = &elements[sender_element];
   __global const Material* sm = &materials[se->material];
   float3 le = bp_load3(sm->emission);
   if (le.x + le.y + le.z <= 0.0f) return (float4)(0.0f);
-  float p_light = light_pdf_uv_area(sm->light_pdf_area, distance, fabs(dot(bp_load3(se->normal), travel)));
+  float p_light = light_pdf_uv_area(light_pdf_area_from(light_set, materials, receiver_patch, sender_patch, se->material),
+                                    distance, fabs(dot(bp_load3(se->normal), travel)));
   Bsdf receiver = bsdf_from_material(&materials[elements[receiver_element].material]);
   float3 wi = facing(n_receiver, travel);
   float w;
@@ -253,7 +259,9 @@ __kernel void rb_tile_resolve(__global const BundleElement* elements, __global c
                               __global const float* tiled_depth, __global const uint* tiled_element,
                               __global uint* tile_order, __global const float4* l_out, const BundleIteration it,
                               const uint tiles, __global float4* received_minus, __global float4* received_plus,
-                              __global ulong* fragment_total) {
+                              __global ulong* fragment_total, __global const Light* lights,
+                              __global const float* light_cdf, __global const LightTreeNode* light_tree,
+                              __global const LightReceiver* light_receivers, const uint light_selection) {
   uint tile = (uint)get_global_id(0);
   if (tile == 0u) *fragment_total += tile_start[tiles];  // for the statistics, read back with the image sums
   if (tile >= tiles) return;
@@ -272,6 +280,7 @@ __kernel void rb_tile_resolve(__global const BundleElement* elements, __global c
   const int light_sampling = BP_FEATURE_LIGHT_SAMPLING && it.light_count > 0u;
   const uint chains = it.chains, direct = light_sampling ? it.direct_chain : chains;  // chains: none
   const uint eye = light_sampling && it.eye_direct_chain ? it.eye_direct_chain : chains;
+  const LightSet light_set_ = light_set(lights, light_cdf, light_tree, light_receivers, it.light_count, light_selection);
   for (uint b = 0; b < BP_TILE_BINS; ++b) {
     uint first = begin + bin_start[b], last = begin + bin_start[b + 1];
     if (first == last) continue;
@@ -296,7 +305,7 @@ __kernel void rb_tile_resolve(__global const BundleElement* elements, __global c
         float4 r = nothing;
         if (sender != BP_NO_PATCH && (c == direct || c == eye) && minus_patch != BP_NO_PATCH)
           r = rb_direct_received(elements, materials, sender_element, element, facing(-omega, n), omega,
-                                 depth - sender_depth, c == eye, &it);
+                                 depth - sender_depth, c == eye, &it, &light_set_, sender, minus_patch);
         else if (sender != BP_NO_PATCH && c != direct && c != eye)
           r = l_out[sender * chains + c];
         received_minus[fragment * chains + c] = r;
@@ -318,7 +327,7 @@ __kernel void rb_tile_resolve(__global const BundleElement* elements, __global c
         float4 r = nothing;
         if (next_minus != BP_NO_PATCH && (c == direct || c == eye) && own_plus != BP_NO_PATCH)
           r = rb_direct_received(elements, materials, next_element, element, facing(omega, n), -omega,
-                                 next_depth - depth, c == eye, &it);
+                                 next_depth - depth, c == eye, &it, &light_set_, next_minus, own_plus);
         else if (next_minus != BP_NO_PATCH && c != direct && c != eye)
           r = l_out[next_minus * chains + c];
         received_plus[fragment * chains + c] = r;

@@ -15,8 +15,7 @@ typedef struct {
   BP_GLOBAL const BvhTriangle* triangles;
   BP_GLOBAL const TriangleShading* shading;
   BP_GLOBAL const Material* materials;
-  BP_GLOBAL const Light* lights;
-  BP_GLOBAL const float* light_cdf;
+  LightSet lights;  // with the per-patch receivers that light selection reads
 } SceneRefs;
 
 typedef struct {
@@ -50,8 +49,7 @@ static void add_light_sample(const SceneRefs* scene, const PathTraceParams* para
                              Rng* rng, PathRadiance* radiance, bp_u32* rays) {
   float u_pick = rng_uniform(rng), u1 = rng_uniform(rng), u2 = rng_uniform(rng);
   float3 x = surface->position + surface->normal * params->ray_epsilon;
-  LightSample ls = light_sample(scene->lights, scene->light_cdf, params->light_count, scene->materials, x, u_pick,
-                                u1, u2);
+  LightSample ls = light_sample(&scene->lights, scene->materials, surface->patch, x, u_pick, u1, u2);
   float cos_x = dot(surface->normal, ls.wi);
   if (!(cos_x > 0.0f) || ls.radiance_over_pdf.x + ls.radiance_over_pdf.y + ls.radiance_over_pdf.z <= 0.0f) return;
   // An area light's own surface is at ls.distance: stop the shadow ray a few offsets short of it.
@@ -84,6 +82,7 @@ static PathRadiance trace_path(const SceneRefs* scene, const PathTraceParams* pa
   const int light_sampling = BP_FEATURE_LIGHT_SAMPLING && params->light_count > 0u;
   // Of the vertex that sampled dir: its prefix, s p_b, and the eye vertex's proxy density of dir.
   float last_prefix_beta = 0.0f, last_pdf_bsdf = 0.0f, last_pdf_proxy = 0.0f;
+  bp_u32 last_patch = 0u;  // and its patch
   for (bp_u32 depth = 0; depth < params->max_depth; ++depth) {
     Hit hit;
     *rays += 1u;
@@ -104,8 +103,9 @@ static PathRadiance trace_path(const SceneRefs* scene, const PathTraceParams* pa
       radiance.raw += emitted;
       radiance.weighted += emitted;
     } else if (emits) {
-      float pdf_light = light_pdf_uv_area(scene->materials[surface.material].light_pdf_area, hit.t,
-                                          dot(surface.normal, wo));
+      float pdf_light = light_pdf_uv_area(
+          light_pdf_area_from(&scene->lights, scene->materials, last_patch, surface.patch, surface.material), hit.t,
+          dot(surface.normal, wo));
       LastSegmentWeights w = pt_last_segment_weights(params, depth - 1u, last_prefix_beta, last_pdf_bsdf,
                                                      last_pdf_proxy, pdf_light, 0);
       LastSegmentWeights alone =
@@ -132,6 +132,7 @@ static PathRadiance trace_path(const SceneRefs* scene, const PathTraceParams* pa
     last_prefix_beta = prefix_beta;
     last_pdf_bsdf = bsdf.continuation * sample.pdf_uv;
     if (depth == 0u) last_pdf_proxy = eye_direct_proxy_pdf_uv(&bsdf, cos_theta);
+    last_patch = surface.patch;
     // Only the weights of the mode need the pdf state: q and r for paper, prod beta for product.
     if (params->weight_mode == BP_WEIGHTS_PAPER) path_pdf_step(&pdf, bsdf.continuation, sample.pdf_uv);
     if (params->weight_mode == BP_WEIGHTS_PRODUCT)
@@ -147,10 +148,12 @@ __kernel void pathtrace(__global const BvhNode* nodes, __global const BvhTriangl
                         __global const TriangleShading* shading, __global const Material* materials,
                         __global const Light* lights, __global const float* light_cdf,
                         const CameraParams camera, const PathTraceParams params,
-                        __global PixelAccum* accum) {
+                        __global PixelAccum* accum, __global const LightTreeNode* light_tree,
+                        __global const LightReceiver* light_receivers, const uint light_selection) {
   bp_u32 pixel = (bp_u32)get_global_id(0);
   if (pixel >= camera.width * camera.height) return;
-  SceneRefs scene = {nodes, triangles, shading, materials, lights, light_cdf};
+  SceneRefs scene = {nodes, triangles, shading, materials,
+                     light_set(lights, light_cdf, light_tree, light_receivers, params.light_count, light_selection)};
   bp_u32 px = pixel % camera.width, py = pixel / camera.width;
   float3 origin = make_float3(camera.position[0], camera.position[1], camera.position[2]);
   float3 sum = make_float3(0.0f, 0.0f, 0.0f), sum_raw = make_float3(0.0f, 0.0f, 0.0f);

@@ -76,6 +76,10 @@ options (defaults in brackets):
                       --mode combined with product weights; --mode rb and --weights paper/none
                       never sample lights. Point and spot lights (KHR_lights_punctual) are
                       reached by light sampling only
+  --light-selection S light sampling: how a light is chosen for a receiving patch: tree (a
+                      BVH over the lights bounding power, position and orientation; nearby,
+                      facing lights are chosen more often) or power (by power alone, the same
+                      for every receiver)                                         [tree]
   --kernels K         specialised (built with only the features the scene and options use:
                       Phong lobe, light sampling) or generic (everything)  [specialised]
   --layers all        also write the unweighted pt_raw and rb_raw layers
@@ -154,6 +158,11 @@ RenderOptions parse_render_options(const std::vector<std::string>& args) {
          if (value != 0.0 && (value < 1e-6 || value > 1e6))
            throw UsageError(k + ": expected 0 or a ratio in [1e-6, 1e6], got '" + v + "'");
          o.ratio = value;
+       }},
+      {"--light-selection", [&](auto& k, auto& v) {
+         if (v != "tree" && v != "power")
+           throw UsageError(k + ": unknown light selection '" + v + "' (available: tree, power)");
+         o.light_selection = v;
        }},
       {"--kernels", [&](auto& k, auto& v) {
          if (v != "specialised" && v != "generic")

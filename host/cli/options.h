@@ -34,6 +34,7 @@ struct RenderOptions {
   double ratio = -1.0;           // combined: PT samples per pixel per RB iteration (0: RB alone); < 0: the default, 1/4
   bool all_layers = false;       // --layers all: also pt_raw and rb_raw
   bool light_sampling = true;    // --no-light-sampling turns it off (light_sampling_applies says where it acts)
+  std::string light_selection = "tree";  // light sampling's choice of light: tree (per receiving patch) or power
   bool generic_kernels = false;  // --kernels generic: every feature compiled in (for comparison)
   std::string reference_path;    // --reference REF.exr
   std::string contact_sheet_path;

@@ -66,7 +66,7 @@ std::string options_key(const RenderOptions& o, int width, int height, float pat
                     ";mode=" + o.mode + ";size=" + std::to_string(width) + "x" + std::to_string(height) +
                     ";seed=" + std::to_string(o.seed) + ";patch_size=" + std::to_string(patch_size) +
                     ";max_depth=" + std::to_string(o.max_depth) + ";layers=" + (o.all_layers ? "all" : "default") +
-                    ";light_sampling=" + (light_sampling_applies(o) ? "on" : "off") +
+                    ";light_sampling=" + (light_sampling_applies(o) ? "on;light_selection=" + o.light_selection : "off") +
                     ";kernels=" + (o.generic_kernels ? "generic" : "specialised");
   if (o.mode != "pt")
     key += ";bins=" + std::to_string(bins) + ";warmup=" + std::to_string(o.warmup) +
@@ -132,7 +132,8 @@ int run_render(const RenderOptions& o) {
   const float ratio_n2_over_n1 = weights.ratio_n2_over_n1;
 
   DeviceContext device(select_device(o.device));
-  DeviceScene device_scene(device, scene, patches, bvh);
+  DeviceScene device_scene(device, scene, patches, bvh,
+                           o.light_selection == "power" ? BP_LIGHT_SELECTION_POWER : BP_LIGHT_SELECTION_TREE);
   const CameraParams camera = pack_camera(scene.camera, width, height);
   const bool light_sampling = light_sampling_applies(o) && device_scene.light_count > 0;
   const float light_rate =
@@ -327,6 +328,7 @@ int run_render(const RenderOptions& o) {
     stats["light_sampling"] = light_sampling;
     stats["kernel_options"] = kernel_opts;
     stats["lights"] = device_scene.light_count;
+    if (light_sampling) stats["light_selection"] = o.light_selection;
     if (!o.resume_path.empty()) stats["resumed_from_rounds"] = first_round;
     if (!o.checkpoint_path.empty()) stats["checkpoint"] = o.checkpoint_path;
     if (shape) {

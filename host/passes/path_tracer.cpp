@@ -22,7 +22,7 @@ PathTracerPass::PathTracerPass(const DeviceContext& device, const DeviceScene& s
   host_pixels_.resize(pixels);
   pixels_ = make_buffer(device, "pixel accumulators", CL_MEM_WRITE_ONLY, pixels * sizeof(PixelAccum));
   set_args(kernel_, scene.nodes, scene.triangles, scene.shading, scene.materials, scene.lights, scene.light_cdf, camera_,
-           params_, pixels_);
+           params_, pixels_, scene.light_tree, scene.light_receivers, cl_uint(scene.light_selection));
 }
 
 std::uint32_t PathTracerPass::max_batch() const {

@@ -235,7 +235,8 @@ void RayBundlePass::iterate(std::uint64_t iteration) {
   const cl_uint patches = as_uint(patch_count_), elements = as_uint(element_count_);
   set_args(outgoing_, elements_, patch_element_, scene_.materials, e_in_, it, patches, l_out_, scene_.nodes,
            scene_.triangles, scene_.lights, scene_.light_cdf, cl_uint(settings_.seed ^ kLightSeedSalt),
-           cl_uint(iteration), scene_.ray_epsilon, eye_light_);
+           cl_uint(iteration), scene_.ray_epsilon, eye_light_, scene_.light_tree, scene_.light_receivers,
+           cl_uint(scene_.light_selection));
   launcher_.launch("rb_outgoing", outgoing_, patch_count_, 64);
 
   set_args(emit_, elements_, it, elements, slot_start_, fragment_counts_, fragment_key_, fragment_depth_, tile_counts_);
@@ -250,7 +251,8 @@ void RayBundlePass::iterate(std::uint64_t iteration) {
            tile_counts_, tiled_at_, tiled_local_, tiled_depth_, tiled_element_);
   launcher_.launch("rb_tile_scatter", tile_scatter_, element_count_, 64);
   set_args(tile_resolve_, elements_, scene_.materials, tile_start_, tiled_local_, tiled_depth_, tiled_element_,
-           tile_order_, l_out_, it, as_uint(tile_count_), received_minus_, received_plus_, fragment_total_);
+           tile_order_, l_out_, it, as_uint(tile_count_), received_minus_, received_plus_, fragment_total_,
+           scene_.lights, scene_.light_cdf, scene_.light_tree, scene_.light_receivers, cl_uint(scene_.light_selection));
   launcher_.launch("rb_tile_resolve", tile_resolve_, tile_count_, 8);
 
   set_args(gather_, elements_, slot_start_, fragment_counts_, tiled_at_, received_minus_, received_plus_, it, elements,
