@@ -4,12 +4,13 @@ plots need gnuplot, installed by bench/setup.sh).
 
   report.py append CSV STUDY --stats S.json [--rss-kb FILE] [--status S] [KEY=VALUE ...]
       add one run to CSV (header written when the file is new). STUDY picks the columns:
-      convergence, knobs or scaling. Every number comes from the renderer's --stats JSON
+      convergence, knobs, scaling or ratio. Every number comes from the renderer's --stats JSON
       (render_seconds, spp, iterations, and relMSE / RMSE / mean bias of the `combined` layer
       against --reference) or from /usr/bin/time (max RSS).
   report.py convergence CSV OUTDIR [--no-plots]   -> OUTDIR/convergence.md, convergence-<scene>.png
   report.py knobs CSV OUTDIR [--no-plots]         -> OUTDIR/knobs.md, knobs-<knob>.png
   report.py scaling CSV OUTDIR                    -> OUTDIR/scaling.md
+  report.py ratio CSV OUTDIR [--no-plots]         -> OUTDIR/ratio.md, ratio-<scene>-<W>x<H>.png
   report.py check CSV STUDY [--min-rows N]        -> exit 1 unless the CSV is well formed
 """
 import csv
@@ -27,13 +28,15 @@ COLUMNS = {
     "knobs": ["knob", "value", "flags", "budget_s", "seed", "status", "render_seconds", "spp", "iterations",
               "rel_mse", "rmse", "mean_bias", "patches", "bins", "ratio", "width", "height", "reference",
               "reference_spp"],
+    "ratio": ["scene", "setting", "flags", "budget_s", "seed", "status", "render_seconds", "probe_seconds", "ratio", "spp",
+              "iterations", "rel_mse", "rmse", "mean_bias", "width", "height", "reference", "reference_spp"],
     "scaling": ["series", "scene", "mode", "flags", "status", "triangles", "patches", "bins", "width", "height",
                 "render_seconds", "spp", "iterations", "ms_per_sample", "ms_per_iteration", "fragments_per_iteration",
                 "kernel_build_seconds", "load_seconds", "max_rss_mib", "device_mib"],
 }
 NUMERIC = {"budget_s", "render_seconds", "spp", "iterations", "rel_mse", "rmse", "mean_bias", "triangles", "patches",
            "bins", "width", "height", "reference_spp", "ms_per_sample", "ms_per_iteration", "fragments_per_iteration",
-           "kernel_build_seconds", "load_seconds", "max_rss_mib", "device_mib", "ratio", "seed"}
+           "kernel_build_seconds", "load_seconds", "max_rss_mib", "device_mib", "ratio", "seed", "probe_seconds"}
 
 
 def fnum(x):
@@ -87,6 +90,8 @@ def cmd_append(args):
                 "fragments_per_iteration", "kernel_build_seconds", "load_seconds", "ratio"):
         if key in row and key in s and s[key] is not None:
             row[key] = s[key]
+    if "probe_seconds" in row and s.get("ratio_auto", {}).get("probe_seconds") is not None:
+        row["probe_seconds"] = s["ratio_auto"]["probe_seconds"]
     if s.get("interrupted"):
         row["status"] = "interrupted"
     layer = s.get("reference", {}).get("layers", {}).get("combined")
@@ -188,8 +193,8 @@ def collapse(rows, keys):
         mid = dict(g[len(g) // 2])
         if len(g) % 2 == 0:
             mid["rel_mse"] = 0.5 * (float(g[len(g) // 2 - 1]["rel_mse"]) + float(g[len(g) // 2]["rel_mse"]))
-        for k in ("render_seconds", "mean_bias", "rmse"):
-            vals = [fnum(r[k]) for r in g if fnum(r[k]) is not None]
+        for k in ("render_seconds", "mean_bias", "rmse", "probe_seconds"):
+            vals = [fnum(r.get(k)) for r in g if fnum(r.get(k)) is not None]
             if vals:
                 mid[k] = sum(vals) / len(vals)
         mid["runs"] = len(g)
@@ -201,11 +206,15 @@ def efficiency(r):
     return 1.0 / (float(r["rel_mse"]) * float(r["render_seconds"]))
 
 
+def size_of(r):
+    return f"{r['width']}x{r['height']}"
+
+
 def cmd_convergence(args):
     path, out = args[0], args[1]
     plots = "--no-plots" not in args
     rows = read_rows(path)
-    good = collapse(ok_rows(rows), ("scene", "mode", "budget_s"))
+    good = collapse(ok_rows(rows), ("scene", "width", "height", "mode", "budget_s"))
     runs = max((r["runs"] for r in good), default=1)
     scenes = list(dict.fromkeys(r["scene"] for r in rows))
     modes = list(dict.fromkeys(r["mode"] for r in rows))
@@ -220,11 +229,14 @@ def cmd_convergence(args):
                " Each point is one run (`--repeats N` takes the median of N)."))
     md.append("")
     head = "| scene | mode | " + " | ".join(f"{b:g} s" for b in budgets) + " | relMSE | mean bias | work done |"
-    for scene in scenes:
-        srows = [r for r in good if r["scene"] == scene]
+    # One section per scene and resolution; the first resolution's plots keep the plain name.
+    sizes = list(dict.fromkeys(size_of(r) for r in good)) or [""]
+    for scene, size in ((scene, size) for scene in scenes for size in sizes):
+        srows = [r for r in good if r["scene"] == scene and size_of(r) == size]
         if not srows:
-            md.append(f"*{scene}: no successful runs*\n")
+            md.append(f"*{scene} {size}: no successful runs*\n")
             continue
+        plot_name = f"convergence-{scene}" + ("" if size == sizes[0] else f"-{size}")
         any_row = srows[0]
         md.append(f"**{scene}** ({any_row['triangles']} triangles, {any_row['width']}×{any_row['height']}, "
                   f"reference {any_row['reference_spp']} spp)")
@@ -252,7 +264,7 @@ def cmd_convergence(args):
         if top in pt_eff and at_top:
             best = max(at_top, key=efficiency)
             md.append("")
-            md.append(f"Most efficient at {top:g} s on {scene}: `{best['mode']}` "
+            md.append(f"Most efficient at {top:g} s on {scene} at {size}: `{best['mode']}` "
                       f"({efficiency(best) / pt_eff[top]:.2f}× PT).")
         # The reference's own noise: a PT image of n spp against a reference of N spp measures about
         # c (1/n + 1/N), so the reference's share of every relMSE is about relMSE_PT * n / (n + N).
@@ -269,9 +281,9 @@ def cmd_convergence(args):
             for mode in modes:
                 pts = [(float(r["render_seconds"]), float(r["rel_mse"])) for r in srows if r["mode"] == mode]
                 series.append((mode, pts))
-            png = os.path.join(out, f"convergence-{scene}.png")
-            loglog_plot(png, f"{scene}: relMSE vs render time", series)
-            md.append(f"![relMSE vs time, {scene}](convergence-{scene}.png)")
+            png = os.path.join(out, f"{plot_name}.png")
+            loglog_plot(png, f"{scene} at {size}: relMSE vs render time", series)
+            md.append(f"![relMSE vs time, {scene} at {size}]({plot_name}.png)")
             md.append("")
     failed = [r for r in rows if r["status"] != "ok"]
     if failed:
@@ -332,6 +344,103 @@ def cmd_knobs(args):
             md.append(f"![relMSE vs time for {knob}](knobs-{name}.png)")
             md.append("")
     with open(os.path.join(out, "knobs.md"), "w") as f:
+        f.write("\n".join(md))
+
+
+# ----------------------------------------------------------------------------------------- ratio
+
+AUTO_TOLERANCE = 1.25  # issue #12: --ratio auto within 1.25x of the best fixed ratio's efficiency
+
+
+def ratio_efficiency(r):
+    """1/(relMSE·t), t = render time plus the probe's (auto throws the probe's work away)."""
+    return 1.0 / (float(r["rel_mse"]) * (float(r["render_seconds"]) + (fnum(r.get("probe_seconds")) or 0.0)))
+
+
+def ratio_text(c):
+    if c is None:
+        return "–"
+    return f"{c:g}" if c >= 1 else f"1/{1 / c:g}"
+
+
+def cmd_ratio(args):
+    path, out = args[0], args[1]
+    plots = "--no-plots" not in args
+    rows = read_rows(path)
+    good = collapse(ok_rows(rows), ("scene", "width", "height", "setting", "budget_s"))
+    runs = max((r["runs"] for r in good), default=1)
+    scenes = list(dict.fromkeys(r["scene"] for r in rows))
+    settings = list(dict.fromkeys(r["setting"] for r in rows))
+    budgets = sorted({float(r["budget_s"]) for r in rows})
+    sizes = list(dict.fromkeys(size_of(r) for r in good))
+    md = ["<!-- generated by bench/ratio.sh from ratio.csv; do not edit by hand -->",
+          "`--mode combined --weights product` at fixed ratios and at `--ratio auto`. Efficiency: the geometric "
+          "mean over the budgets of `1/(relMSE·t)`, t = `render_seconds` (plus `probe_seconds` for auto, whose "
+          "probe work is discarded); *vs best* is a setting's efficiency over the best fixed ratio's." +
+          (f" Each point is the median relMSE of {runs} runs." if runs > 1 else " Each point is one run."), ""]
+    summary = []
+    for scene in scenes:
+        for size in sizes:
+            srows = [r for r in good if r["scene"] == scene and size_of(r) == size]
+            if not srows:
+                continue
+            eff, used = {}, {}
+            for setting in settings:
+                pts = {float(r["budget_s"]): r for r in srows if r["setting"] == setting}
+                if pts and all(b in pts for b in budgets):
+                    eff[setting] = math.exp(sum(math.log(ratio_efficiency(pts[b])) for b in budgets) / len(budgets))
+                used[setting] = sorted({fnum(r["ratio"]) for r in pts.values() if fnum(r["ratio"])}, reverse=True)
+            fixed = {k: v for k, v in eff.items() if k != "auto"}
+            best = max(fixed, key=fixed.get) if fixed else None
+            md.append(f"**{scene}** at {size} (reference {srows[0]['reference_spp']} spp)")
+            md.append("")
+            md.append("| --ratio | c used | " + " | ".join(f"relMSE {b:g} s" for b in budgets) +
+                      " | work at the largest budget | efficiency | vs best |")
+            md.append("|---|---|" + "---|" * len(budgets) + "---|---|---|")
+            for setting in settings:
+                pts = {float(r["budget_s"]): r for r in srows if r["setting"] == setting}
+                if not pts:
+                    status = next((r["status"] for r in rows if r["scene"] == scene and r["setting"] == setting
+                                   and r["status"] != "ok"), "not run")
+                    md.append(f"| {setting} | – | " + " | ".join("–" for _ in budgets) + f" | {status} | – | – |")
+                    continue
+                last = pts[max(pts)]
+                work = f"{last['spp'] or 0} spp + {last['iterations'] or 0} it"
+                e = eff.get(setting)
+                rel = e / fixed[best] if e and best else None
+                md.append(f"| {'**' + setting + '**' if setting == best else setting} | "
+                          f"{', '.join(ratio_text(c) for c in used[setting]) or '–'} | " +
+                          " | ".join(fmt(fnum(pts[b]["rel_mse"]) if b in pts else None, ".4g") for b in budgets) +
+                          f" | {work} | {fmt(e, '.4g')} | {fmt(rel, '.2f')} |")
+            md.append("")
+            if plots:
+                series = [(f"--ratio {k}", [(float(r["render_seconds"]) + (fnum(r.get("probe_seconds")) or 0.0),
+                                             float(r["rel_mse"])) for r in srows if r["setting"] == k])
+                          for k in settings]
+                name = f"ratio-{scene}-{size}"
+                loglog_plot(os.path.join(out, name + ".png"), f"{scene} at {size}: combined, product weights", series)
+                md.append(f"![relMSE vs time per ratio, {scene} at {size}]({name}.png)")
+                md.append("")
+            a = eff.get("auto")
+            summary.append((scene, size, best, fixed.get(best), used.get("auto", []), a,
+                            fixed[best] / a if a and best else None))
+    if summary:
+        md.append(f"`--ratio auto` against the best fixed ratio (requirement: best / auto ≤ {AUTO_TOLERANCE}):")
+        md.append("")
+        md.append("| scene | resolution | best fixed ratio | its efficiency | auto chose | auto's efficiency | "
+                  "best / auto | within 1.25× |")
+        md.append("|---|---|---|---|---|---|---|---|")
+        for scene, size, best, be, chose, a, q in summary:
+            verdict = "–" if q is None else ("yes" if q <= AUTO_TOLERANCE else "**no**")
+            md.append(f"| {scene} | {size} | {best or '–'} | {fmt(be, '.4g')} | "
+                      f"{', '.join(ratio_text(c) for c in chose) or '–'} | {fmt(a, '.4g')} | {fmt(q, '.2f')} | {verdict} |")
+        md.append("")
+    failed = [r for r in rows if r["status"] != "ok"]
+    if failed:
+        md.append(f"{len(failed)} run(s) did not finish: " +
+                  ", ".join(f"{r['scene']}/{r['setting']}@{r['budget_s']}s ({r['status']})" for r in failed[:12]))
+        md.append("")
+    with open(os.path.join(out, "ratio.md"), "w") as f:
         f.write("\n".join(md))
 
 
@@ -420,10 +529,10 @@ def main():
     if len(sys.argv) < 3:
         sys.exit(__doc__)
     cmd, args = sys.argv[1], sys.argv[2:]
-    if cmd in ("convergence", "knobs", "scaling"):
+    if cmd in ("convergence", "knobs", "scaling", "ratio"):
         os.makedirs(args[1], exist_ok=True)
     {"append": cmd_append, "convergence": cmd_convergence, "knobs": cmd_knobs, "scaling": cmd_scaling,
-     "check": cmd_check}[cmd](args)
+     "check": cmd_check, "ratio": cmd_ratio}[cmd](args)
 
 
 if __name__ == "__main__":

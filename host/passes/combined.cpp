@@ -1,6 +1,7 @@
 #include "passes/combined.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <stdexcept>
 
@@ -20,6 +21,87 @@ RoundShape round_shape(double c) {
 CombinedWeights combined_weights(std::uint32_t mode, const RoundShape& shape) {
   if (shape.pt_samples == 0) return CombinedWeights{BP_WEIGHTS_NONE, 1.0f};
   return CombinedWeights{mode, float(1.0 / shape.ratio())};
+}
+
+// A round of N1 PT samples and N2 RB iterations takes N1 t_PT + N2 t_RB; PT's share of it is
+//   f = N1 t_PT / (N1 t_PT + N2 t_RB)   <=>   c = N1 / N2 = f / (1 - f) · t_RB / t_PT.
+// A fixed f rather than a fixed c follows the cost that moves with the scene and the resolution: PT's
+// cost per sample grows with the pixels, an RB iteration's mostly with the patches (DESIGN.md §3).
+// c is snapped to a power of 2 (log-nearest) so that timing noise of a few percent rarely changes
+// the choice, and an integer or its inverse is what round_shape makes a round of; it stays within
+// [1/1024, 64], where one pass already has more than 99 % of the time at f = 0.3 for any costs
+// that still put it there.
+RoundShape auto_ratio_shape(double pt_seconds_per_spp, double rb_seconds_per_iteration) {
+  const double f = kAutoRatioPtTimeShare;
+  const double t_pt = std::max(pt_seconds_per_spp, 1e-9), t_rb = std::max(rb_seconds_per_iteration, 1e-9);
+  const double c = f / (1.0 - f) * t_rb / t_pt;
+  const int log2_c = std::clamp(int(std::lround(std::log2(c))), -10, 6);
+  return round_shape(std::ldexp(1.0, log2_c));
+}
+
+namespace {
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+// Runs `step(first, count)` in batches that double (capped at max_batch) until `seconds` of timed
+// work are done; returns the timed seconds and counts into *timed_seconds / *timed_count.
+template <class Step>
+void time_until(double seconds, std::uint32_t max_batch, std::uint64_t first, Step step, double* timed_seconds,
+                std::uint64_t* timed_count) {
+  std::uint32_t batch = 1;
+  while (*timed_count == 0 || *timed_seconds < seconds) {
+    const auto t = std::chrono::steady_clock::now();
+    step(first + *timed_count, batch);
+    *timed_seconds += seconds_since(t);
+    *timed_count += batch;
+    const double per = *timed_seconds / double(*timed_count);
+    const double left = (seconds - *timed_seconds) / per;  // what still fits, in steps
+    if (left < 1.0) break;
+    batch = std::uint32_t(std::clamp<double>(std::min(2.0 * batch, std::ceil(left)), 1.0, double(max_batch)));
+  }
+}
+}  // namespace
+
+RatioProbe probe_ratio(PathTracerPass& pt, RayBundlePass& rb, Accumulator& pt_accum, Accumulator& rb_accum,
+                       const RatioProbeBudget& budget) {
+  const auto start = std::chrono::steady_clock::now();
+  const Accumulator pt_before = pt_accum, rb_before = rb_accum;
+  const RayBundlePass::State rb_before_state = rb.save_state();
+  // The probe times RB iterations with their eye estimate, not the warm-up: marked as warmed up.
+  rb.load_state(RayBundlePass::State{rb_before_state.e_in, 0, true});
+  pt.run(0, 1);  // untimed: the first launch of each kernel builds its work-group code on some devices
+  rb.run(0, 1);
+  double pt_seconds = 0.0, rb_seconds = 0.0;
+  std::uint64_t pt_count = 0, rb_count = 0;
+  time_until(0.0, 1, 1, [&](std::uint64_t f, std::uint32_t n) { pt.run(f, n); }, &pt_seconds, &pt_count);
+  time_until(0.0, 1, 1, [&](std::uint64_t f, std::uint32_t n) { rb.run(f, n); }, &rb_seconds, &rb_count);
+  // The probe's size: a share of the render's time, estimated from these two when only a count is given.
+  double render_seconds = budget.seconds > 0.0 ? budget.seconds : 1e30;
+  if (budget.spp || budget.iterations) {
+    const RoundShape first_guess = auto_ratio_shape(pt_seconds, rb_seconds);
+    const double rounds = budget.spp ? std::ceil(double(budget.spp) / first_guess.pt_samples)
+                                     : std::ceil(double(budget.iterations) / first_guess.rb_iterations);
+    render_seconds = std::min(render_seconds, rounds * (first_guess.pt_samples * pt_seconds +
+                                                        first_guess.rb_iterations * rb_seconds));
+  }
+  const double probe_seconds = std::min(kAutoRatioProbeCapSeconds, kAutoRatioProbeShare * render_seconds);
+  time_until(probe_seconds / 2, pt.max_batch(), 1, [&](std::uint64_t f, std::uint32_t n) { pt.run(f, n); },
+             &pt_seconds, &pt_count);
+  time_until(probe_seconds / 2, rb.max_batch(), 1, [&](std::uint64_t f, std::uint32_t n) { rb.run(f, n); },
+             &rb_seconds, &rb_count);
+  pt_accum = pt_before;
+  rb_accum = rb_before;
+  rb.load_state(rb_before_state);
+
+  RatioProbe probe;
+  probe.pt_seconds_per_spp = pt_seconds / double(pt_count);
+  probe.rb_seconds_per_iteration = rb_seconds / double(rb_count);
+  probe.pt_samples = std::uint32_t(pt_count);
+  probe.rb_iterations = std::uint32_t(rb_count);
+  probe.chosen = auto_ratio_shape(probe.pt_seconds_per_spp, probe.rb_seconds_per_iteration);
+  probe.probe_seconds = seconds_since(start);
+  return probe;
 }
 
 namespace {

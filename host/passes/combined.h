@@ -30,6 +30,41 @@ struct CombinedWeights {
 };
 CombinedWeights combined_weights(std::uint32_t mode, const RoundShape& shape);
 
+// --ratio auto (DESIGN.md §3, "The ratio c"): the share of the render time PT gets. To be set from the
+// ratio sweep (bench/ratio.sh); 0.3 is the first guess.
+constexpr double kAutoRatioPtTimeShare = 0.3;
+// The probe's timed work: this share of the render's time (--time, or the time --spp / --iterations
+// would take, estimated from one sample and one iteration), at most kAutoRatioProbeCapSeconds.
+constexpr double kAutoRatioProbeShare = 0.02;
+constexpr double kAutoRatioProbeCapSeconds = 1.5;
+
+// The round --ratio auto renders with, from the measured costs: seconds per PT sample per pixel
+// (whole image) and per RB iteration (eye estimate included). See combined.cpp for the derivation.
+RoundShape auto_ratio_shape(double pt_seconds_per_spp, double rb_seconds_per_iteration);
+
+// What the probe measured and chose.
+struct RatioProbe {
+  RoundShape chosen;
+  double pt_seconds_per_spp = 0.0;
+  double rb_seconds_per_iteration = 0.0;
+  std::uint32_t pt_samples = 0, rb_iterations = 0;  // the timed ones (plus one untimed of each)
+  double probe_seconds = 0.0;                       // wall time of the whole probe
+};
+
+// What the render will do, for the probe's size: seconds (0: none) and a round target in PT samples
+// per pixel or RB iterations (0: none).
+struct RatioProbeBudget {
+  double seconds = 0.0;
+  std::uint64_t spp = 0, iterations = 0;
+};
+
+// Times the real passes (after one untimed sample and iteration, which pay the first launches) and
+// picks the round with auto_ratio_shape. Nothing of it stays: the accumulators and the ray-bundle
+// state (warm-up not done) are put back as they were, so the render that follows is the one a fixed
+// --ratio of the chosen c gives, bit for bit. The passes' weights are the caller's to set after.
+RatioProbe probe_ratio(PathTracerPass& pt, RayBundlePass& rb, Accumulator& pt_accum, Accumulator& rb_accum,
+                       const RatioProbeBudget& budget);
+
 class CombinedPass : public ProgressivePass {
  public:
   CombinedPass(PathTracerPass& pt, RayBundlePass& rb, RoundShape shape) : pt_(pt), rb_(rb), shape_(shape) {}
