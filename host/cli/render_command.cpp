@@ -372,7 +372,8 @@ int run_render(const RenderOptions& o) {
                                {"pt_time_share", kAutoRatioPtTimeShare},
                                {"probe_pt_samples", probe->pt_samples},
                                {"probe_rb_iterations", probe->rb_iterations},
-                               {"probe_seconds", probe->probe_seconds}};
+                               {"probe_seconds", probe->probe_seconds},
+                               {"probe_first_launch_seconds", probe->first_launch_seconds}};
       else if (ratio_is_auto(o))
         stats["ratio_auto"] = {{"chosen", shape->ratio()}, {"from_checkpoint", true}};
       stats["rounds"] = outcome.rounds;

@@ -72,6 +72,7 @@ RatioProbe probe_ratio(PathTracerPass& pt, RayBundlePass& rb, Accumulator& pt_ac
   rb.load_state(RayBundlePass::State{rb_before_state.e_in, 0, true});
   pt.run(0, 1);  // untimed: the first launch of each kernel builds its work-group code on some devices
   rb.run(0, 1);
+  const double first_launch_seconds = seconds_since(start);
   double pt_seconds = 0.0, rb_seconds = 0.0;
   std::uint64_t pt_count = 0, rb_count = 0;
   time_until(0.0, 1, 1, [&](std::uint64_t f, std::uint32_t n) { pt.run(f, n); }, &pt_seconds, &pt_count);
@@ -101,6 +102,7 @@ RatioProbe probe_ratio(PathTracerPass& pt, RayBundlePass& rb, Accumulator& pt_ac
   probe.rb_iterations = std::uint32_t(rb_count);
   probe.chosen = auto_ratio_shape(probe.pt_seconds_per_spp, probe.rb_seconds_per_iteration);
   probe.probe_seconds = seconds_since(start);
+  probe.first_launch_seconds = first_launch_seconds;
   return probe;
 }
 

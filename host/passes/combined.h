@@ -49,6 +49,7 @@ struct RatioProbe {
   double rb_seconds_per_iteration = 0.0;
   std::uint32_t pt_samples = 0, rb_iterations = 0;  // the timed ones (plus one untimed of each)
   double probe_seconds = 0.0;                       // wall time of the whole probe
+  double first_launch_seconds = 0.0;                // of which the untimed sample and iteration
 };
 
 // What the render will do, for the probe's size: seconds (0: none) and a round target in PT samples

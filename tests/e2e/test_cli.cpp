@@ -178,7 +178,10 @@ TEST(Cli, AutoRatioReportsTheChosenRatioAndDrawsThatRatiosImage) {
     EXPECT_EQ(stats["ratio"].get<double>(), chosen);
     EXPECT_GT(stats["ratio_auto"]["pt_seconds_per_spp"].get<double>(), 0.0);
     EXPECT_GT(stats["ratio_auto"]["rb_seconds_per_iteration"].get<double>(), 0.0);
-    EXPECT_LT(stats["ratio_auto"]["probe_seconds"].get<double>(), 3.0);
+    // Beyond the first launches (which build each kernel's work-group code on PoCL, a cost the render
+    // would pay anyway), --spp 4 on 20x20 pixels buys a probe of a few milliseconds.
+    const nlohmann::json& a = stats["ratio_auto"];
+    EXPECT_LT(a["probe_seconds"].get<double>() - a["probe_first_launch_seconds"].get<double>(), 0.2) << a.dump();
     // A power of 2; --spp fixes the rounds, the iterations follow from c.
     EXPECT_EQ(std::exp2(std::round(std::log2(chosen))), chosen);
     const std::uint64_t rounds = stats["rounds"].get<std::uint64_t>();
@@ -196,7 +199,8 @@ TEST(Cli, AutoRatioReportsTheChosenRatioAndDrawsThatRatiosImage) {
   CliResult r = run_cli(common + "--time 1 --out " + dir + "/timed --stats " + dir + "/timed.json");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   nlohmann::json stats = nlohmann::json::parse(std::ifstream(dir + "/timed.json"));
-  EXPECT_LT(stats["ratio_auto"]["probe_seconds"].get<double>(), 2.0) << stats.dump();  // mostly the first launches
+  const nlohmann::json& a = stats["ratio_auto"];
+  EXPECT_LT(a["probe_seconds"].get<double>() - a["probe_first_launch_seconds"].get<double>(), 0.2) << a.dump();
 }
 
 TEST(Cli, CombinedModeOptionErrors) {
