@@ -29,14 +29,16 @@ COLUMNS = {
               "rel_mse", "rmse", "mean_bias", "patches", "bins", "ratio", "width", "height", "reference",
               "reference_spp"],
     "ratio": ["scene", "setting", "flags", "budget_s", "seed", "status", "render_seconds", "probe_seconds", "ratio", "spp",
-              "iterations", "rel_mse", "rmse", "mean_bias", "width", "height", "reference", "reference_spp"],
+              "iterations", "rel_mse", "rmse", "mean_bias", "width", "height", "pt_seconds_per_spp",
+              "rb_seconds_per_iteration", "reference", "reference_spp"],
     "scaling": ["series", "scene", "mode", "flags", "status", "triangles", "patches", "bins", "width", "height",
                 "render_seconds", "spp", "iterations", "ms_per_sample", "ms_per_iteration", "fragments_per_iteration",
                 "kernel_build_seconds", "load_seconds", "max_rss_mib", "device_mib"],
 }
 NUMERIC = {"budget_s", "render_seconds", "spp", "iterations", "rel_mse", "rmse", "mean_bias", "triangles", "patches",
            "bins", "width", "height", "reference_spp", "ms_per_sample", "ms_per_iteration", "fragments_per_iteration",
-           "kernel_build_seconds", "load_seconds", "max_rss_mib", "device_mib", "ratio", "seed", "probe_seconds"}
+           "kernel_build_seconds", "load_seconds", "max_rss_mib", "device_mib", "ratio", "seed", "probe_seconds",
+           "pt_seconds_per_spp", "rb_seconds_per_iteration"}
 
 
 def fnum(x):
@@ -90,8 +92,9 @@ def cmd_append(args):
                 "fragments_per_iteration", "kernel_build_seconds", "load_seconds", "ratio"):
         if key in row and key in s and s[key] is not None:
             row[key] = s[key]
-    if "probe_seconds" in row and s.get("ratio_auto", {}).get("probe_seconds") is not None:
-        row["probe_seconds"] = s["ratio_auto"]["probe_seconds"]
+    for key in ("probe_seconds", "pt_seconds_per_spp", "rb_seconds_per_iteration"):  # --ratio auto's probe
+        if key in row and s.get("ratio_auto", {}).get(key) is not None:
+            row[key] = s["ratio_auto"][key]
     if s.get("interrupted"):
         row["status"] = "interrupted"
     layer = s.get("reference", {}).get("layers", {}).get("combined")
@@ -422,19 +425,34 @@ def cmd_ratio(args):
                 md.append(f"![relMSE vs time per ratio, {scene} at {size}]({name}.png)")
                 md.append("")
             a = eff.get("auto")
+            # The PT time share f at which auto's rule (passes/combined.cpp) gives the best fixed ratio,
+            # from the probe's measured costs: f = c t_PT / (c t_PT + t_RB).
+            t_pt = [fnum(r["pt_seconds_per_spp"]) for r in srows if fnum(r.get("pt_seconds_per_spp"))]
+            t_rb = [fnum(r["rb_seconds_per_iteration"]) for r in srows if fnum(r.get("rb_seconds_per_iteration"))]
+            share = None
+            if best and t_pt and t_rb:
+                c, tp, tr = fnum(used[best][0]) if used.get(best) else None, sorted(t_pt)[len(t_pt) // 2], sorted(t_rb)[len(t_rb) // 2]
+                share = c * tp / (c * tp + tr) if c else None
             summary.append((scene, size, best, fixed.get(best), used.get("auto", []), a,
-                            fixed[best] / a if a and best else None))
+                            fixed[best] / a if a and best else None, share))
     if summary:
         md.append(f"`--ratio auto` against the best fixed ratio (requirement: best / auto ≤ {AUTO_TOLERANCE}):")
         md.append("")
         md.append("| scene | resolution | best fixed ratio | its efficiency | auto chose | auto's efficiency | "
-                  "best / auto | within 1.25× |")
-        md.append("|---|---|---|---|---|---|---|---|")
-        for scene, size, best, be, chose, a, q in summary:
+                  "best / auto | within 1.25× | PT time share at the best ratio |")
+        md.append("|---|---|---|---|---|---|---|---|---|")
+        for scene, size, best, be, chose, a, q, share in summary:
             verdict = "–" if q is None else ("yes" if q <= AUTO_TOLERANCE else "**no**")
             md.append(f"| {scene} | {size} | {best or '–'} | {fmt(be, '.4g')} | "
-                      f"{', '.join(ratio_text(c) for c in chose) or '–'} | {fmt(a, '.4g')} | {fmt(q, '.2f')} | {verdict} |")
+                      f"{', '.join(ratio_text(c) for c in chose) or '–'} | {fmt(a, '.4g')} | {fmt(q, '.2f')} | {verdict} | "
+                      f"{fmt(share, '.2f')} |")
         md.append("")
+        shares = sorted(x[7] for x in summary if x[7] is not None)
+        if shares:
+            md.append(f"The last column is the `kAutoRatioPtTimeShare` (passes/combined.h) at which `--ratio auto` "
+                      f"would have picked each scene's best fixed ratio, from the probe's measured costs; median "
+                      f"{shares[len(shares) // 2]:.2f}, range {shares[0]:.2f}–{shares[-1]:.2f}.")
+            md.append("")
     failed = [r for r in rows if r["status"] != "ok"]
     if failed:
         md.append(f"{len(failed)} run(s) did not finish: " +
