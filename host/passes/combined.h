@@ -31,7 +31,8 @@ struct CombinedWeights {
 CombinedWeights combined_weights(std::uint32_t mode, const RoundShape& shape);
 
 // --ratio auto (DESIGN.md §3, "The ratio c"): the share of the render time PT gets. To be set from the
-// ratio sweep (bench/ratio.sh); 0.3 is the first guess.
+// ratio sweep (bench/ratio.sh prints the share that would have picked each scene's best ratio); 0.3
+// is the first guess. `render --help` (cli/options.cpp) quotes these three constants.
 constexpr double kAutoRatioPtTimeShare = 0.3;
 // The probe's timed work: this share of the render's time (--time, or the time --spp / --iterations
 // would take, estimated from one sample and one iteration), at most kAutoRatioProbeCapSeconds.
