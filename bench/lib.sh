@@ -150,8 +150,8 @@ bench_rooms_scene() {
   local dir=$BENCH_CACHE/scenes
   mkdir -p "$dir"
   local out=$dir/rooms-$n-s$seed.glb
-  local -a flags=()
-  if [ "$variant" = lambert ]; then out=$dir/rooms-lambert-$n-s$seed.glb; flags=(--lambert); fi
+  local -a make_flags=()
+  if [ "$variant" = lambert ]; then out=$dir/rooms-lambert-$n-s$seed.glb; make_flags=(--lambert); fi
   if [ ! -f "$out" ]; then
     local tool=$BENCH_BUILD_DIR/bench/make_rooms
     [ -x "$tool" ] || tool=$BENCH_BUILD_DIR/make_rooms
@@ -159,7 +159,7 @@ bench_rooms_scene() {
       echo "bench: $tool missing (build the 'make_rooms' target)" >&2
       return 2
     fi
-    "$tool" "$n" "$out.tmp.glb" --seed "$seed" "${flags[@]}" >&2
+    "$tool" "$n" "$out.tmp.glb" --seed "$seed" "${make_flags[@]}" >&2
     mv "$out.tmp.glb" "$out"
   fi
   echo "$out"
