@@ -73,9 +73,9 @@ for size in "${sizes[@]}"; do
     spp=${ref_spp_override:-$(bench_reference_spp "$spp" "$size")}
     scene=$(bench_scene "$name")
     ref=$(bench_reference "$scene" "$spp" "$size")
-    # Untimed: the first launch of each kernel builds its work-group code (PoCL), which would land in
-    # the first setting's time.
-    bench_render "$scene" $BASE_FLAGS --ratio 1 --spp 1 "${wh[@]}" --out "$tmp/warm" 2>>"$log" >/dev/null || true
+    # Untimed (not in --quick): the first launch of each kernel builds its work-group code (PoCL),
+    # which would land in the first setting's time.
+    [ $quick -eq 1 ] || bench_render "$scene" $BASE_FLAGS --ratio 1 --spp 1 "${wh[@]}" --out "$tmp/warm" 2>>"$log" >/dev/null || true
     for ratio in $ratios; do
       for ((rep = 0; rep < repeats; rep++)); do
         i=0

@@ -27,10 +27,10 @@ CombinedWeights combined_weights(std::uint32_t mode, const RoundShape& shape) {
 //   f = N1 t_PT / (N1 t_PT + N2 t_RB)   <=>   c = N1 / N2 = f / (1 - f) · t_RB / t_PT.
 // A fixed f rather than a fixed c follows the cost that moves with the scene and the resolution: PT's
 // cost per sample grows with the pixels, an RB iteration's mostly with the patches (DESIGN.md §3).
-// c is snapped to a power of 2 (log-nearest) so that timing noise of a few percent rarely changes
-// the choice, and an integer or its inverse is what round_shape makes a round of; it stays within
-// [1/1024, 64], where one pass already has more than 99 % of the time at f = 0.3 for any costs
-// that still put it there.
+// c is snapped to a power of 2 (log-nearest): timing noise of a few percent rarely changes the
+// choice, and an integer or its inverse is what round_shape makes a round of. It is clamped to
+// [1/1024, 64]: past that a round (the unit a --time budget stops at) grows long for a pass that
+// gets little of the time anyway.
 RoundShape auto_ratio_shape(double pt_seconds_per_spp, double rb_seconds_per_iteration) {
   const double f = kAutoRatioPtTimeShare;
   const double t_pt = std::max(pt_seconds_per_spp, 1e-9), t_rb = std::max(rb_seconds_per_iteration, 1e-9);
@@ -45,7 +45,7 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
 }
 
 // Runs `step(first, count)` in batches that double (capped at max_batch) until `seconds` of timed
-// work are done; returns the timed seconds and counts into *timed_seconds / *timed_count.
+// work are done (at least one step), adding the time and the count to *timed_seconds / *timed_count.
 template <class Step>
 void time_until(double seconds, std::uint32_t max_batch, std::uint64_t first, Step step, double* timed_seconds,
                 std::uint64_t* timed_count) {
