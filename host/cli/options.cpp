@@ -68,12 +68,14 @@ options (defaults in brackets):
   --ratio C           combined: PT samples per pixel per RB iteration, or auto   [auto]
                       0: ray bundles alone (w_RB = 1; count with --iterations or --time)
                       auto: a short timed probe after the kernels are built (about 2 % of
-                      --time, or of the estimated time of --spp / --iterations; at most
-                      1.5 s; not counted in --time, its samples are discarded) measures PT's
-                      cost per sample and RB's per iteration and picks c, a power of 2, so
-                      PT gets about 30 % of the time; --spp or --iterations then fixes the
-                      other count from that c. The chosen c is printed and in --stats; give
-                      it as --ratio for a reproducible image. --resume reuses the saved c
+                      --time, or of the estimated time of --spp / --iterations, at most
+                      1.5 s, and at least one RB iteration; not counted in --time, its
+                      samples are discarded) measures PT's cost per sample (on the same view
+                      at about 128x128 pixels, scaled) and RB's per iteration, and picks c,
+                      a power of 2, so that PT gets about 30 % of the time; --spp or
+                      --iterations then fixes the other count from that c. The chosen c is
+                      printed and in --stats; give it as --ratio for a reproducible image.
+                      --resume reuses the saved c
   --no-light-sampling turn light sampling off: emitters are then reached by BSDF sampling (pt)
                       and bundles (rb) only, as in the paper. Light sampling (next-event
                       estimation in PT, a shadow ray per patch in RB) acts in --mode pt and in

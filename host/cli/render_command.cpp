@@ -155,6 +155,7 @@ int run_render(const RenderOptions& o) {
   Accumulator pt_accum(width, height, o.all_layers), rb_accum(width, height, o.all_layers);
 
   std::unique_ptr<PathTracerPass> pt;
+  PathTracerSettings pt_settings;  // for --ratio auto's probe pass
   if (use_pt) {
     PathTracerSettings settings;
     settings.seed = o.seed;
@@ -166,6 +167,7 @@ int run_render(const RenderOptions& o) {
     settings.light_sampling = light_sampling;
     settings.kernel_options = kernel_opts;
     pt = std::make_unique<PathTracerPass>(device, device_scene, camera, settings, pt_accum);
+    pt_settings = settings;
   }
   std::unique_ptr<RayBundlePass> rb;
   std::optional<BundleGeometry> geometry;
@@ -200,7 +202,13 @@ int run_render(const RenderOptions& o) {
     if (resumed) {
       if (std::optional<RoundShape> saved = round_of_key(resumed->options)) shape = *saved;
     } else {
-      probe = probe_ratio(*pt, *rb, pt_accum, rb_accum, RatioProbeBudget{o.seconds, o.spp, o.iterations});
+      // PT is timed on a pass of its own at a smaller size of the same view (passes/combined.h).
+      const ProbeImageSize size = probe_image_size(width, height);
+      Accumulator probe_accum(size.width, size.height, false);
+      PathTracerPass probe_pt(device, device_scene, pack_camera(scene.camera, size.width, size.height), pt_settings,
+                              probe_accum);
+      probe = probe_ratio(probe_pt, std::size_t(width) * height, *rb, rb_accum,
+                          RatioProbeBudget{o.seconds, o.spp, o.iterations});
       shape = probe->chosen;
       std::fprintf(stderr,
                    "bundlepath: --ratio auto: c = %s (PT %.4g s per sample per pixel, RB %.4g s per iteration, PT "
@@ -371,6 +379,8 @@ int run_render(const RenderOptions& o) {
                                {"rb_seconds_per_iteration", probe->rb_seconds_per_iteration},
                                {"pt_time_share", kAutoRatioPtTimeShare},
                                {"probe_pt_samples", probe->pt_samples},
+                               {"probe_pt_size", std::to_string(probe->pt_image.width) + "x" +
+                                                     std::to_string(probe->pt_image.height)},
                                {"probe_rb_iterations", probe->rb_iterations},
                                {"probe_seconds", probe->probe_seconds},
                                {"probe_first_launch_seconds", probe->first_launch_seconds}};

@@ -63,43 +63,53 @@ void time_until(double seconds, std::uint32_t max_batch, std::uint64_t first, St
 }
 }  // namespace
 
-RatioProbe probe_ratio(PathTracerPass& pt, RayBundlePass& rb, Accumulator& pt_accum, Accumulator& rb_accum,
+ProbeImageSize probe_image_size(int width, int height) {
+  const double pixels = double(width) * height;
+  if (pixels <= double(kAutoRatioProbePixels)) return ProbeImageSize{width, height};
+  const double scale = std::sqrt(double(kAutoRatioProbePixels) / pixels);
+  return ProbeImageSize{std::max(1, int(std::lround(width * scale))), std::max(1, int(std::lround(height * scale)))};
+}
+
+RatioProbe probe_ratio(PathTracerPass& probe_pt, std::size_t pixels, RayBundlePass& rb, Accumulator& rb_accum,
                        const RatioProbeBudget& budget) {
   const auto start = std::chrono::steady_clock::now();
-  const Accumulator pt_before = pt_accum, rb_before = rb_accum;
+  const Accumulator rb_before = rb_accum;
   const RayBundlePass::State rb_before_state = rb.save_state();
   // The probe times RB iterations with their eye estimate, not the warm-up: marked as warmed up.
   rb.load_state(RayBundlePass::State{rb_before_state.e_in, 0, true});
-  pt.run(0, 1);  // untimed: the first launch of each kernel builds its work-group code on some devices
+  // Untimed: the first launch of each kernel builds its work-group code on some devices (PoCL, seconds
+  // on a cold cache). PT's is a launch of 0 samples per pixel (no path traced); RB's a whole iteration.
+  probe_pt.run(0, 0);
   rb.run(0, 1);
   const double first_launch_seconds = seconds_since(start);
   double pt_seconds = 0.0, rb_seconds = 0.0;
   std::uint64_t pt_count = 0, rb_count = 0;
-  time_until(0.0, 1, 1, [&](std::uint64_t f, std::uint32_t n) { pt.run(f, n); }, &pt_seconds, &pt_count);
-  time_until(0.0, 1, 1, [&](std::uint64_t f, std::uint32_t n) { rb.run(f, n); }, &rb_seconds, &rb_count);
+  const auto pt_step = [&](std::uint64_t f, std::uint32_t n) { probe_pt.run(f, n); };
+  const auto rb_step = [&](std::uint64_t f, std::uint32_t n) { rb.run(f, n); };
+  time_until(0.0, 1, 0, pt_step, &pt_seconds, &pt_count);
+  time_until(0.0, 1, 1, rb_step, &rb_seconds, &rb_count);
+  const double pt_scale = double(pixels) / (double(probe_pt.pixel_width()) * probe_pt.pixel_height());
   // The probe's size: a share of the render's time, estimated from these two when only a count is given.
   double render_seconds = budget.seconds > 0.0 ? budget.seconds : 1e30;
   if (budget.spp || budget.iterations) {
-    const RoundShape first_guess = auto_ratio_shape(pt_seconds, rb_seconds);
+    const RoundShape first_guess = auto_ratio_shape(pt_seconds * pt_scale, rb_seconds);
     const double rounds = budget.spp ? std::ceil(double(budget.spp) / first_guess.pt_samples)
                                      : std::ceil(double(budget.iterations) / first_guess.rb_iterations);
-    render_seconds = std::min(render_seconds, rounds * (first_guess.pt_samples * pt_seconds +
+    render_seconds = std::min(render_seconds, rounds * (first_guess.pt_samples * pt_seconds * pt_scale +
                                                         first_guess.rb_iterations * rb_seconds));
   }
   const double probe_seconds = std::min(kAutoRatioProbeCapSeconds, kAutoRatioProbeShare * render_seconds);
-  time_until(probe_seconds / 2, pt.max_batch(), 1, [&](std::uint64_t f, std::uint32_t n) { pt.run(f, n); },
-             &pt_seconds, &pt_count);
-  time_until(probe_seconds / 2, rb.max_batch(), 1, [&](std::uint64_t f, std::uint32_t n) { rb.run(f, n); },
-             &rb_seconds, &rb_count);
-  pt_accum = pt_before;
+  time_until(probe_seconds / 2, probe_pt.max_batch(), 0, pt_step, &pt_seconds, &pt_count);
+  time_until(probe_seconds / 2, rb.max_batch(), 1, rb_step, &rb_seconds, &rb_count);
   rb_accum = rb_before;
   rb.load_state(rb_before_state);
 
   RatioProbe probe;
-  probe.pt_seconds_per_spp = pt_seconds / double(pt_count);
+  probe.pt_seconds_per_spp = pt_seconds / double(pt_count) * pt_scale;
   probe.rb_seconds_per_iteration = rb_seconds / double(rb_count);
   probe.pt_samples = std::uint32_t(pt_count);
   probe.rb_iterations = std::uint32_t(rb_count);
+  probe.pt_image = ProbeImageSize{int(probe_pt.pixel_width()), int(probe_pt.pixel_height())};
   probe.chosen = auto_ratio_shape(probe.pt_seconds_per_spp, probe.rb_seconds_per_iteration);
   probe.probe_seconds = seconds_since(start);
   probe.first_launch_seconds = first_launch_seconds;

@@ -43,14 +43,25 @@ constexpr double kAutoRatioProbeCapSeconds = 1.5;
 // (whole image) and per RB iteration (eye estimate included). See combined.cpp for the derivation.
 RoundShape auto_ratio_shape(double pt_seconds_per_spp, double rb_seconds_per_iteration);
 
+// PT's probe image: the render's view at about kAutoRatioProbePixels pixels (its own size if
+// smaller), same aspect. A PT sample's cost per pixel has the same distribution over the view at any
+// resolution, so t_PT = (the probe image's time per sample) · pixels / probe pixels, at a fraction of
+// a full-size sample's cost (a 1280x720 sample of the rooms takes about a second).
+constexpr std::size_t kAutoRatioProbePixels = 128 * 128;
+struct ProbeImageSize {
+  int width = 1, height = 1;
+};
+ProbeImageSize probe_image_size(int width, int height);
+
 // What the probe measured and chose.
 struct RatioProbe {
   RoundShape chosen;
   double pt_seconds_per_spp = 0.0;
   double rb_seconds_per_iteration = 0.0;
-  std::uint32_t pt_samples = 0, rb_iterations = 0;  // the timed ones (plus one untimed of each)
+  std::uint32_t pt_samples = 0, rb_iterations = 0;  // the timed ones (plus one untimed RB iteration)
+  ProbeImageSize pt_image;                          // where the PT samples were taken
   double probe_seconds = 0.0;                       // wall time of the whole probe
-  double first_launch_seconds = 0.0;                // of which the untimed sample and iteration
+  double first_launch_seconds = 0.0;                // of which the untimed first launches
 };
 
 // What the render will do, for the probe's size: seconds (0: none) and a round target in PT samples
@@ -60,11 +71,13 @@ struct RatioProbeBudget {
   std::uint64_t spp = 0, iterations = 0;
 };
 
-// Times the real passes (after one untimed sample and iteration, which pay the first launches) and
-// picks the round with auto_ratio_shape. Nothing of it stays: the accumulators and the ray-bundle
-// state (warm-up not done) are put back as they were, so the render that follows is the one a fixed
-// --ratio of the chosen c gives, bit for bit. The passes' weights are the caller's to set after.
-RatioProbe probe_ratio(PathTracerPass& pt, RayBundlePass& rb, Accumulator& pt_accum, Accumulator& rb_accum,
+// Times PT on `probe_pt` (a pass of its own, at probe_image_size, with the render's settings) and RB
+// on the render's own pass (after an untimed PT launch of 0 samples and RB iteration, which pay the
+// first launches; then at least one timed PT sample and RB iteration) and picks the round with
+// auto_ratio_shape. `pixels` is the render's. Nothing stays in the render's passes: the ray-bundle
+// accumulator and state (warm-up not done) are put back as they were, so the render that follows is
+// the one a fixed --ratio of the chosen c gives, bit for bit. The weights are the caller's to set.
+RatioProbe probe_ratio(PathTracerPass& probe_pt, std::size_t pixels, RayBundlePass& rb, Accumulator& rb_accum,
                        const RatioProbeBudget& budget);
 
 class CombinedPass : public ProgressivePass {

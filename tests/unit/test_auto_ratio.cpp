@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 #include <cmath>
+#include <utility>
 
 namespace bp {
 namespace {
@@ -28,6 +29,24 @@ TEST(AutoRatio, StaysWithinItsRange) {
   EXPECT_EQ(auto_ratio_shape(1.0, 1e-9).rb_iterations, 1024u);
   EXPECT_EQ(auto_ratio_shape(1e-9, 1.0).pt_samples, 64u);
   EXPECT_EQ(auto_ratio_shape(0.0, 0.0).ratio(), 0.5);  // f / (1 - f) = 0.43 at equal costs
+}
+
+}  // namespace
+}  // namespace bp
+
+namespace bp {
+namespace {
+
+// PT's probe image: the render's own size up to 128x128 pixels, else the same view scaled to about
+// that many pixels with the aspect kept.
+TEST(AutoRatio, ProbeImageIsTheSameViewAtAbout128SquaredPixels) {
+  EXPECT_EQ(probe_image_size(20, 20).width, 20);
+  EXPECT_EQ(probe_image_size(128, 128).height, 128);
+  for (auto [w, h] : {std::pair{640, 360}, std::pair{1280, 720}, std::pair{4096, 100}}) {
+    const ProbeImageSize s = probe_image_size(w, h);
+    EXPECT_NEAR(double(s.width) * s.height, double(kAutoRatioProbePixels), 0.05 * kAutoRatioProbePixels) << w << "x" << h;
+    EXPECT_NEAR(double(s.width) / s.height, double(w) / h, 0.05 * w / h) << w << "x" << h;
+  }
 }
 
 }  // namespace
