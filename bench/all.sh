@@ -35,7 +35,7 @@ while [ $# -gt 0 ]; do
     --no-plots) plots=0 ;;
     --stages) stages=$2; shift ;;
     --resolutions) resolutions=$2; shift ;;
-    -h|--help) sed -n '2,19p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,20p' "$0"; exit 0 ;;
     *) echo "all.sh: unknown option $1" >&2; exit 2 ;;
   esac
   shift

@@ -60,7 +60,7 @@ while [ $# -gt 0 ]; do
                   done < "$2"; shift ;;
     --no-plots) plots=0 ;;
     --references-only) refs_only=1 ;;
-    -h|--help) sed -n '2,22p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,20p' "$0"; exit 0 ;;
     *) echo "convergence.sh: unknown option $1" >&2; exit 2 ;;
   esac
   shift

@@ -44,7 +44,7 @@ while [ $# -gt 0 ]; do
     --ref-spp) ref_spp_override=$2; shift ;;
     --repeats) repeats=$2; shift ;;
     --no-plots) plots=0 ;;
-    -h|--help) sed -n '2,20p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,18p' "$0"; exit 0 ;;
     *) echo "ratio.sh: unknown option $1" >&2; exit 2 ;;
   esac
   shift
