@@ -11,7 +11,7 @@
 #                             [--references-only]
 #   --resolutions LIST image sizes, WxH separated by commas   [128x128,640x360,1280x720]
 #                      (--size N is --resolutions NxN); references: the 128x128 spp of SCENES
-#                      below there, the same pixel samples as a power of 2 (at least 1024) elsewhere
+#                      below there, larger sizes per bench_reference_spp (bench/lib.sh)
 #   --quick            32x32, budget 1 s, 256-spp references: checks the pipeline, not the figures
 #   --mode-table FILE  extra modes, one "label|renderer flags" per line (added to MODES below)
 #   --repeats N        N renders (independent seeds) per mode and budget; the tables and plots use

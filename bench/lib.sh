@@ -13,8 +13,9 @@
 #                                     SIZE is WxH (640x360) or N (NxN)
 # bench_size_args SIZE             -> --width W --height H, one a line
 # bench_resolutions LIST           -> the sizes of "128x128,640x360" (commas or spaces), one a line
-# bench_reference_spp SPP SIZE     -> a reference's spp at SIZE: SPP at 128x128, the same pixel
-#                                     samples at larger sizes as a power of 2, at least 1024 (or SPP)
+# bench_reference_spp SPP SIZE     -> a reference's spp at SIZE: SPP up to 128x128 pixels; larger,
+#                                     the same pixel samples as a power of 2, and at least those of
+#                                     1024 spp at 640x360 (1024 spp there, 256 at 1280x720), at most SPP
 # bench_rooms_scene TRIANGLES [SEED [lambert]] -> prints the path of a cached procedural rooms scene (.glb)
 # bench_render ARGS...             -> the renderer with BENCH_DEVICE applied, stderr kept in a log
 # bench_has_flag FLAG              -> true when `render --help` mentions FLAG
@@ -91,11 +92,14 @@ import sys
 spp, size = int(sys.argv[1]), sys.argv[2]
 w, _, h = size.partition("x")
 pixels = int(w) * int(h or w)
-same = spp * 128 * 128 / pixels   # the pixel samples of SPP at 128x128
-p = 1
-while p * 2 <= same:
-    p *= 2
-print(spp if pixels <= 128 * 128 else max(min(spp, 1024), min(spp, p)))
+def pow2_floor(x):
+    p = 1
+    while p * 2 <= x:
+        p *= 2
+    return p
+# The pixel samples of SPP at 128x128, and at least those of 1024 spp at 640x360 (the same time).
+same = max(pow2_floor(spp * 128 * 128 / pixels), pow2_floor(1024 * 640 * 360 / pixels))
+print(spp if pixels <= 128 * 128 else min(spp, same))
 PY
 }
 
