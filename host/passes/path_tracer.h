@@ -35,6 +35,10 @@ class PathTracerPass : public ProgressivePass {
 
   const BuiltProgram& program() const override { return program_; }
   const Launcher& launcher() const override { return launcher_; }
+  // N2 / N1 of the weights from the next sample on (--ratio auto sets it once, after its probe).
+  void set_weight_ratio(float n2_over_n1) { params_.weight_ratio = n2_over_n1; }
+  std::uint32_t pixel_width() const { return camera_.width; }
+  std::uint32_t pixel_height() const { return camera_.height; }
 
  private:
   const DeviceContext& device_;

@@ -75,6 +75,8 @@ class RayBundlePass : public ProgressivePass {
   const Launcher& launcher() const override { return launcher_; }
   const BuiltProgram& program() const override { return program_; }
   std::uint32_t bins() const { return bins_; }
+  // N2 / N1 of the weights from the next iteration on (--ratio auto sets it once, after its probe).
+  void set_weight_ratio(float n2_over_n1) { settings_.weight_ratio = n2_over_n1; }
   std::uint32_t pixel_width() const { return camera_.width; }
   std::uint32_t pixel_height() const { return camera_.height; }
 
