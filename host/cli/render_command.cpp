@@ -330,7 +330,8 @@ int run_render(const RenderOptions& o) {
     for (const auto& [name, img] : layers.images) {
       ErrorMetrics m = compare_images(img, *reference);
       const std::string key = name.empty() ? "combined" : name;
-      metrics[key] = {{"rel_mse", m.rel_mse}, {"rmse", m.rmse}, {"mean_bias", m.mean_bias}};
+      metrics[key] = {{"rel_mse", m.rel_mse}, {"rmse", m.rmse}, {"mean_bias", m.mean_bias},
+                      {"relative_bias", m.reference_mean != 0.0 ? m.mean_bias / m.reference_mean : 0.0}};
       std::fprintf(stderr, "bundlepath: %-8s vs reference: relMSE %.4g  RMSE %.4g  mean bias %+.4g\n", key.c_str(),
                    m.rel_mse, m.rmse, m.mean_bias);
     }
