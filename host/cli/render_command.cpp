@@ -147,8 +147,10 @@ int run_render(const RenderOptions& o) {
   float ratio_n2_over_n1 = weights.ratio_n2_over_n1;
 
   DeviceContext device(select_device(o.device));
+  // The light tree and its per-patch receivers only where light sampling acts (power needs neither).
   DeviceScene device_scene(device, scene, patches, bvh,
-                           o.light_selection == "power" ? BP_LIGHT_SELECTION_POWER : BP_LIGHT_SELECTION_TREE);
+                           light_sampling_applies(o) && o.light_selection == "tree" ? BP_LIGHT_SELECTION_TREE
+                                                                                    : BP_LIGHT_SELECTION_POWER);
   const CameraParams camera = pack_camera(scene.camera, width, height);
   const bool light_sampling = light_sampling_applies(o) && device_scene.light_count > 0;
   const float light_rate =
@@ -352,7 +354,7 @@ int run_render(const RenderOptions& o) {
     stats["triangles"] = scene.triangles.size();
     stats["patches"] = patches.patch_count;
     stats["patch_size"] = patch_size;
-    stats["scene_device_bytes"] = device_scene.bytes;  // BVH, shading, materials, lights
+    stats["scene_device_bytes"] = device_scene.bytes;  // BVH, shading, materials, lights, light tree, receivers
     stats["load_seconds"] = load_seconds;
     stats["bvh_build_seconds"] = bvh_seconds;
     double build_seconds = 0.0;

@@ -11,6 +11,7 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr int kBins = 12;
+constexpr std::size_t kMaxLeafLights = 8;
 
 // A cone of directions: every direction within theta of axis (theta >= pi: all of them).
 struct Cone {
@@ -191,21 +192,40 @@ struct Builder {
     return at;
   }
 
+  // Whether order[begin, end) is one panel: a few triangles of one material facing one way, as
+  // compact as a square of their area. Such a leaf's lights are chosen by power: a tree below it
+  // would cost importance evaluations and gain next to nothing.
+  bool is_panel(std::size_t begin, std::size_t end, const LightBounds& all) const {
+    if (end - begin == 1) return true;
+    if (end - begin > kMaxLeafLights || all.normals.theta > 1e-3) return false;
+    const std::uint32_t material = list.lights[order[begin]].material;
+    double area = 0.0;
+    for (std::size_t i = begin; i < end; ++i) {
+      const Light& l = list.lights[order[i]];
+      if (l.type != BP_LIGHT_TRIANGLE || l.material != material) return false;
+      area += double(l.area);
+    }
+    return glm::length(all.hi - all.lo) <= 2.0 * std::sqrt(area);
+  }
+
   // Builds the subtree of order[begin, end) at nodes.size(); returns its index.
   std::uint32_t build(std::size_t begin, std::size_t end, std::uint32_t depth, std::uint64_t trail) {
     const std::uint32_t index = std::uint32_t(nodes.size());
     nodes.emplace_back();
     LightBounds all;
     for (std::size_t i = begin; i < end; ++i) all.grow(light_bounds[order[i]]);
-    if (end - begin == 1) {
+    if (is_panel(begin, end, all)) {
       LightTreeNode& leaf = nodes[index];
       store_node(leaf, all);
       leaf.flags |= BP_LIGHT_NODE_LEAF;
-      leaf.child = order[begin];
-      Light& l = list.lights[order[begin]];
-      l.tree_trail[0] = std::uint32_t(trail);
-      l.tree_trail[1] = std::uint32_t(trail >> 32);
-      l.tree_depth = depth;
+      leaf.child = std::uint32_t(begin);  // lights are renumbered in tree order at the end
+      leaf.leaf_lights = std::uint32_t(end - begin);
+      for (std::size_t i = begin; i < end; ++i) {
+        Light& l = list.lights[order[i]];
+        l.tree_trail[0] = std::uint32_t(trail);
+        l.tree_trail[1] = std::uint32_t(trail >> 32);
+        l.tree_depth = depth;
+      }
       return index;
     }
     // Balanced splits once the depth budget (64 trail bits) could run out.
@@ -233,6 +253,21 @@ std::vector<LightTreeNode> build_light_tree(LightList& lights, const Scene& scen
   b.nodes.reserve(2 * n);
   b.build(0, n, 0, 0);
   for (LightTreeNode& node : b.nodes) node.receiver_offset = offset;
+  // Renumber the lights in tree order, so that a leaf's lights are consecutive.
+  std::vector<Light> renumbered(n);
+  std::vector<std::uint32_t> new_index(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    renumbered[k] = lights.lights[b.order[k]];
+    new_index[b.order[k]] = std::uint32_t(k);
+  }
+  lights.lights = std::move(renumbered);
+  for (std::uint32_t& l : lights.light_of_triangle)
+    if (l != BP_NO_LIGHT) l = new_index[l];
+  double running = 0.0;
+  for (std::size_t k = 0; k < n; ++k) {
+    running += double(lights.lights[k].select_probability);
+    lights.cdf[k] = k + 1 == n ? 1.0f : float(running);
+  }
   return b.nodes;
 }
 

@@ -10,8 +10,9 @@
 namespace bp {
 
 // Builds the tree over lights.lights (binned on the orientation-weighted surface-area cost of
-// Conty & Kulla 2018) and writes each light's trail from the root into it. One leaf (no interior
-// node) for a single light; empty for none. Depth stays below 64 (the trail's bits). `offset`: how
+// Conty & Kulla 2018), renumbers the lights in tree order (light_of_triangle and cdf follow) and
+// writes each light's trail from the root into it. A leaf is one light or one panel (a few
+// coplanar triangles of one emitter); a single panel is the whole tree. Empty for no light. Depth stays below 64 (the trail's bits). `offset`: how
 // far off a patch the rays start (every node keeps it for the importance).
 std::vector<LightTreeNode> build_light_tree(LightList& lights, const Scene& scene, float offset);
 

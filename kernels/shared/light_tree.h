@@ -7,7 +7,7 @@
 #define BP_SHARED_LIGHT_TREE_H
 #include "shared/compat.h"
 
-#define BP_LIGHT_NODE_LEAF 1u       // `child` is a light index, not the second child
+#define BP_LIGHT_NODE_LEAF 1u       // `child` is the first of `leaf_lights` lights, not the second child
 #define BP_LIGHT_NODE_TWO_SIDED 2u  // some light below emits from both sides: angles are taken up to sign
 
 #define BP_NO_LIGHT 0xffffffffu
@@ -20,10 +20,10 @@ typedef struct {
   float cos_theta_o;    // the lights' normals lie within theta_o of axis
   float axis[3];
   float cos_theta_e;    // each light emits within theta_e of its normal (pi/2 for area lights)
-  bp_u32 child;         // interior: the second child's index; leaf: the light's index
+  bp_u32 child;         // interior: the second child's index; leaf: its first light's index
   bp_u32 flags;         // BP_LIGHT_NODE_*
   float receiver_offset;  // the rays' offset off a receiving patch, m (the same in every node)
-  bp_u32 pad0;
+  bp_u32 leaf_lights;     // leaf: its lights, child .. child + leaf_lights - 1 (one panel's triangles)
 } LightTreeNode;
 
 // A receiving patch as light selection sees it; one per patch, the same buffer for PT and RB.
@@ -124,18 +124,19 @@ BP_FN float light_tree_first_probability(BP_GLOBAL const LightTreeNode* nodes, b
   return a / (a + b);
 }
 
-// A light chosen for a receiver, and the probability it was chosen with.
+// A leaf reached for a receiver, the probability it was reached with, and what is left of u.
 typedef struct {
-  bp_u32 light;
+  bp_u32 node;
   float probability;
-} LightPick;
+  float u;
+} LightTreeLeaf;
 
 // Walks from the root: child by importance, u reused (rescaled into the chosen interval).
-BP_FN LightPick light_tree_select(BP_GLOBAL const LightTreeNode* nodes, BP_GLOBAL const LightReceiver* receiver,
-                                  float u) {
+BP_FN LightTreeLeaf light_tree_select(BP_GLOBAL const LightTreeNode* nodes, BP_GLOBAL const LightReceiver* receiver,
+                                      float u) {
   float3 c = bp_load3(receiver->centroid), n = bp_load3(receiver->normal);
   float r = receiver->radius;
-  LightPick pick;
+  LightTreeLeaf pick;
   pick.probability = 1.0f;
   bp_u32 node = 0u;
   while (!(nodes[node].flags & BP_LIGHT_NODE_LEAF)) {
@@ -151,14 +152,15 @@ BP_FN LightPick light_tree_select(BP_GLOBAL const LightTreeNode* nodes, BP_GLOBA
     }
     u = fmin(fmax(u, 0.0f), 0.99999994f);  // [0, 1) again despite rounding
   }
-  pick.light = nodes[node].child;
+  pick.node = node;
+  pick.u = u;
   return pick;
 }
 
-// Probability that light_tree_select picks the light at the end of `trail` (bit k set: the second
-// child at depth k), for the same receiver: the same products in the same order.
+// Probability that light_tree_select reaches the leaf at the end of `trail` (bit k set: the second
+// child at depth k), for the same receiver: the same products in the same order. *leaf: that leaf.
 BP_FN float light_tree_probability(BP_GLOBAL const LightTreeNode* nodes, BP_GLOBAL const LightReceiver* receiver,
-                                   bp_u32 trail_lo, bp_u32 trail_hi, bp_u32 depth) {
+                                   bp_u32 trail_lo, bp_u32 trail_hi, bp_u32 depth, bp_u32* leaf) {
   float3 c = bp_load3(receiver->centroid), n = bp_load3(receiver->normal);
   float r = receiver->radius;
   float probability = 1.0f;
@@ -174,6 +176,7 @@ BP_FN float light_tree_probability(BP_GLOBAL const LightTreeNode* nodes, BP_GLOB
       node = nodes[node].child;
     }
   }
+  *leaf = node;
   return probability;
 }
 

@@ -90,9 +90,52 @@ BP_FN LightSet light_set(BP_GLOBAL const Light* lights, BP_GLOBAL const float* c
   return s;
 }
 
+// A light chosen for a receiver, and the probability it was chosen with.
+typedef struct {
+  bp_u32 light;
+  float probability;
+} LightPick;
+
+// The lights of a tree leaf (one panel's triangles) are chosen by power among themselves: the share
+// of `light`, or, with light = BP_NO_LIGHT, the light that u picks and its share.
+BP_FN LightPick light_leaf_pick(const LightSet* set, BP_GLOBAL const LightTreeNode* leaf, float u, bp_u32 light) {
+  const bp_u32 first = leaf->child, count = leaf->leaf_lights;
+  LightPick pick;
+  pick.light = first;
+  pick.probability = 1.0f;
+  if (count <= 1u) return pick;
+  float total = 0.0f;
+  for (bp_u32 i = 0u; i < count; ++i) total += set->lights[first + i].select_probability;
+  if (!(total > 0.0f)) {  // dark lights only: uniform
+    pick.light = light != BP_NO_LIGHT ? light : first + (bp_u32)fmin(u * (float)count, (float)(count - 1u));
+    pick.probability = 1.0f / (float)count;
+    return pick;
+  }
+  if (light == BP_NO_LIGHT) {
+    float target = u * total, running = 0.0f;
+    pick.light = first + count - 1u;
+    for (bp_u32 i = 0u; i < count; ++i) {
+      running += set->lights[first + i].select_probability;
+      if (target < running) {
+        pick.light = first + i;
+        break;
+      }
+    }
+  } else {
+    pick.light = light;
+  }
+  pick.probability = set->lights[pick.light].select_probability / total;
+  return pick;
+}
+
 // A light for the receiving patch, and its selection probability.
 BP_FN LightPick light_select(const LightSet* set, bp_u32 receiver_patch, float u) {
-  if (set->selection == BP_LIGHT_SELECTION_TREE) return light_tree_select(set->tree, &set->receivers[receiver_patch], u);
+  if (set->selection == BP_LIGHT_SELECTION_TREE) {
+    LightTreeLeaf leaf = light_tree_select(set->tree, &set->receivers[receiver_patch], u);
+    LightPick pick = light_leaf_pick(set, &set->tree[leaf.node], leaf.u, BP_NO_LIGHT);
+    pick.probability *= leaf.probability;
+    return pick;
+  }
   LightPick pick;
   pick.light = light_pick(set->cdf, set->count, u);
   pick.probability = set->lights[pick.light].select_probability;
@@ -103,8 +146,10 @@ BP_FN LightPick light_select(const LightSet* set, bp_u32 receiver_patch, float u
 BP_FN float light_select_probability(const LightSet* set, bp_u32 receiver_patch, bp_u32 light) {
   BP_GLOBAL const Light* l = &set->lights[light];
   if (set->selection != BP_LIGHT_SELECTION_TREE) return l->select_probability;
-  return light_tree_probability(set->tree, &set->receivers[receiver_patch], l->tree_trail[0], l->tree_trail[1],
-                                l->tree_depth);
+  bp_u32 leaf = 0u;
+  float p = light_tree_probability(set->tree, &set->receivers[receiver_patch], l->tree_trail[0], l->tree_trail[1],
+                                   l->tree_depth, &leaf);
+  return light_leaf_pick(set, &set->tree[leaf], 0.0f, light).probability * p;
 }
 
 // Light sampling's area density on the emitter that patch emitter_patch is part of, as seen from
