@@ -1,0 +1,151 @@
+// The combination in a furnace (issue #12): a closed Lambert box whose every surface emits Le and
+// reflects with albedo a has the exact answer Le / (1 - a) in every pixel, for PT, for RB (every
+// patch has the same radiance, so RB's discretisation costs nothing) and for any weighted sum of
+// the two whose weights sum to one. The weight-sum tests check the shared functions; these check the
+// places that apply them, with enough independent runs that a 2 % bias is several standard errors.
+#include "kernel/device_fixture.h"
+#include "stats.h"
+
+#include <gtest/gtest.h>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+namespace bp::test {
+namespace {
+
+constexpr int kFurnaceSize = 16;    // pixels per side; four quadrants of 8x8
+constexpr float kLe = 1.0f;
+constexpr double kMaxRelativeSe = 0.005;  // of the image mean: a 2 % bias is >= 4 standard errors
+
+Scene make_furnace(float albedo) {
+  SceneMaterial m;
+  m.kd = glm::vec3(albedo);
+  m.emission = glm::vec3(kLe);
+  return make_closed_box(0.5f, m);
+}
+
+// One render of the furnace and the five numbers the test compares: image mean, then 4 quadrants.
+struct FurnaceCase {
+  std::string name;
+  CombinedSettings settings;  // settings.seed is replaced per run
+  bool pt_alone = false;      // render_pt with settings.light_sampling and settings.rounds samples
+};
+
+constexpr int kRegions = 5;
+
+std::vector<double> furnace_regions(const ImageRGB& img) {
+  std::vector<double> r(kRegions, 0.0);
+  const int half = kFurnaceSize / 2;
+  for (int y = 0; y < kFurnaceSize; ++y)
+    for (int x = 0; x < kFurnaceSize; ++x) {
+      double v = (img.pixel(x, y)[0] + img.pixel(x, y)[1] + img.pixel(x, y)[2]) / 3.0;
+      r[0] += v / (kFurnaceSize * kFurnaceSize);
+      r[1 + (y / half) * 2 + x / half] += v / (half * half);
+    }
+  return r;
+}
+
+ImageRGB furnace_render(const Scene& scene, const FurnaceCase& fc, std::uint32_t seed) {
+  if (fc.pt_alone)
+    return render_pt(scene, kFurnaceSize, kFurnaceSize, fc.settings.rounds, seed, 65536, fc.settings.light_sampling).image;
+  CombinedSettings cs = fc.settings;
+  cs.seed = seed;
+  return render_combined(scene, kFurnaceSize, kFurnaceSize, cs).combined;
+}
+
+// N2/N1 = rb / pt per round; `rounds` rounds.
+CombinedSettings shape(std::uint32_t pt, std::uint32_t rb, std::uint64_t rounds, std::uint32_t beta, bool light) {
+  CombinedSettings cs;
+  cs.weight_mode = BP_WEIGHTS_PRODUCT;
+  cs.pt_samples_per_round = pt;
+  cs.rb_iterations_per_round = rb;
+  cs.rounds = rounds;
+  cs.beta_heuristic = beta;
+  cs.light_sampling = light;
+  cs.patch_size = 0.125f;
+  cs.warmup = 32;  // a^33 of the radiance still missing at the first eye estimate
+  return cs;
+}
+
+// The cases: both betas at N2/N1 = 1/16, 1, 16 (where beta < 1 is common), with light sampling off
+// or on. A new setting (e.g. the shared eye-vertex direct light) is one more loop here.
+std::vector<FurnaceCase> combination_cases(bool light_sampling) {
+  std::vector<FurnaceCase> out;
+  for (std::uint32_t beta : {BP_BETA_CLAMPED, BP_BETA_BALANCE}) {
+    const std::string b = beta == BP_BETA_CLAMPED ? "clamped" : "balance";
+    const std::string l = light_sampling ? ", light sampling" : "";
+    out.push_back({"N2/N1 1/16, beta " + b + l, shape(16, 1, 4, beta, light_sampling)});
+    // light sampling halves RB's standard error or better: fewer rounds give the same power
+    out.push_back({"N2/N1 1, beta " + b + l, shape(1, 1, light_sampling ? 32 : 96, beta, light_sampling)});
+    out.push_back({"N2/N1 16, beta " + b + l, shape(1, 16, light_sampling ? 6 : 12, beta, light_sampling)});
+  }
+  return out;
+}
+
+struct FurnaceResult {
+  double mean[kRegions], se[kRegions];
+};
+
+FurnaceResult run_case(const Scene& scene, const FurnaceCase& fc, int runs) {
+  std::vector<std::vector<double>> all;
+  for (int k = 0; k < runs; ++k) all.push_back(furnace_regions(furnace_render(scene, fc, std::uint32_t(7001 + 97 * k))));
+  FurnaceResult r{};
+  for (int i = 0; i < kRegions; ++i) {
+    for (int k = 0; k < runs; ++k) r.mean[i] += all[k][i] / runs;
+    double var = 0.0;
+    for (int k = 0; k < runs; ++k) var += (all[k][i] - r.mean[i]) * (all[k][i] - r.mean[i]) / (runs - 1);
+    r.se[i] = std::sqrt(var / runs);
+  }
+  return r;
+}
+
+// Every case's image mean and quadrants against Le / (1 - a): t-tests on `runs` independent runs at
+// a Šidák-corrected family-wise level of 0.01 over all cases and regions, after asserting that the
+// image mean's standard error is small enough for a 2 % bias to show.
+void expect_furnace_exact(float albedo, const std::vector<FurnaceCase>& cases, int runs) {
+  const Scene scene = make_furnace(albedo);
+  const double exact = kLe / (1.0 - albedo);
+  const double alpha = sidak_alpha(0.01, int(cases.size()) * kRegions);
+  for (const FurnaceCase& fc : cases) {
+    auto start = std::chrono::steady_clock::now();
+    FurnaceResult r = run_case(scene, fc, runs);
+    double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double t_mean = (r.mean[0] - exact) / r.se[0];
+    std::printf("[furnace a=%.2f] %-40s mean %.5f (exact %.5f, %+.2f %%)  rel. se %.3f %%  t %+.2f  %.1f s\n", albedo,
+                fc.name.c_str(), r.mean[0], exact, 100.0 * (r.mean[0] / exact - 1.0), 100.0 * r.se[0] / exact, t_mean,
+                seconds);
+    EXPECT_LT(r.se[0] / exact, kMaxRelativeSe) << fc.name << ": too noisy to see a 2 % bias";
+    for (int i = 0; i < kRegions; ++i) {
+      const double t = (r.mean[i] - exact) / r.se[i];
+      EXPECT_GT(student_t_two_sided_p(t, runs - 1), alpha)
+          << fc.name << ", a " << albedo << ", " << (i == 0 ? std::string("image mean") : "quadrant " + std::to_string(i))
+          << ": " << r.mean[i] << " vs exact " << exact << " (t " << t << ", se " << r.se[i] << ")";
+    }
+  }
+}
+
+constexpr int kRuns = 32;
+
+TEST(CombinationFurnace, EachEstimatorAloneReturnsLeOverOneMinusAlbedo) {
+  std::vector<FurnaceCase> cases;
+  for (bool light : {false, true}) {
+    FurnaceCase pt{std::string("PT alone") + (light ? ", light sampling" : ""), shape(1, 1, 32, BP_BETA_CLAMPED, light), true};
+    cases.push_back(pt);
+  }
+  cases.push_back({"RB alone", shape(0, 1, 192, BP_BETA_CLAMPED, false)});
+  expect_furnace_exact(0.5f, cases, kRuns);
+}
+
+TEST(CombinationFurnace, ProductWeightsReturnLeOverOneMinusAlbedo) {
+  expect_furnace_exact(0.5f, combination_cases(false), kRuns);
+}
+
+TEST(CombinationFurnace, ProductWeightsWithLightSamplingReturnLeOverOneMinusAlbedo) {
+  expect_furnace_exact(0.5f, combination_cases(true), kRuns);
+}
+
+}  // namespace
+}  // namespace bp::test
