@@ -4,6 +4,7 @@
 // the two whose weights sum to one. The weight-sum tests check the shared functions; these check the
 // places that apply them, with enough independent runs that a 2 % bias is several standard errors.
 #include "kernel/device_fixture.h"
+#include "kernel/region_test.h"
 #include "stats.h"
 
 #include <gtest/gtest.h>
@@ -16,7 +17,7 @@
 namespace bp::test {
 namespace {
 
-constexpr int kFurnaceSize = 16;    // pixels per side; four quadrants of 8x8
+constexpr int kFurnaceSize = 16;    // pixels per side; the image mean and four quadrants of 8x8 are tested
 constexpr float kLe = 1.0f;
 constexpr double kMaxRelativeSe = 0.005;  // of the image mean: a 2 % bias is >= 4 standard errors
 
@@ -27,26 +28,11 @@ Scene make_furnace(float albedo) {
   return make_closed_box(0.5f, m);
 }
 
-// One render of the furnace and the five numbers the test compares: image mean, then 4 quadrants.
 struct FurnaceCase {
   std::string name;
   CombinedSettings settings;  // settings.seed is replaced per run
   bool pt_alone = false;      // render_pt with settings.light_sampling and settings.rounds samples
 };
-
-constexpr int kRegions = 5;
-
-std::vector<double> furnace_regions(const ImageRGB& img) {
-  std::vector<double> r(kRegions, 0.0);
-  const int half = kFurnaceSize / 2;
-  for (int y = 0; y < kFurnaceSize; ++y)
-    for (int x = 0; x < kFurnaceSize; ++x) {
-      double v = (img.pixel(x, y)[0] + img.pixel(x, y)[1] + img.pixel(x, y)[2]) / 3.0;
-      r[0] += v / (kFurnaceSize * kFurnaceSize);
-      r[1 + (y / half) * 2 + x / half] += v / (half * half);
-    }
-  return r;
-}
 
 ImageRGB furnace_render(const Scene& scene, const FurnaceCase& fc, std::uint32_t seed) {
   if (fc.pt_alone)
@@ -99,43 +85,26 @@ std::vector<FurnaceCase> combination_cases(bool light_sampling,
   return out;
 }
 
-struct FurnaceResult {
-  double mean[kRegions], se[kRegions];
-};
-
-FurnaceResult run_case(const Scene& scene, const FurnaceCase& fc, int runs) {
-  std::vector<std::vector<double>> all;
-  for (int k = 0; k < runs; ++k) all.push_back(furnace_regions(furnace_render(scene, fc, std::uint32_t(7001 + 97 * k))));
-  FurnaceResult r{};
-  for (int i = 0; i < kRegions; ++i) {
-    for (int k = 0; k < runs; ++k) r.mean[i] += all[k][i] / runs;
-    double var = 0.0;
-    for (int k = 0; k < runs; ++k) var += (all[k][i] - r.mean[i]) * (all[k][i] - r.mean[i]) / (runs - 1);
-    r.se[i] = std::sqrt(var / runs);
-  }
-  return r;
-}
-
 // Every case's image mean and quadrants against Le / (1 - a): t-tests on `runs` independent runs at
 // a Šidák-corrected family-wise level of 0.01 over all cases and regions, after asserting that the
 // image mean's standard error is small enough for a 2 % bias to show.
 void expect_furnace_exact(float albedo, const std::vector<FurnaceCase>& cases, int runs) {
   const Scene scene = make_furnace(albedo);
   const double exact = kLe / (1.0 - albedo);
-  const double alpha = sidak_alpha(0.01, int(cases.size()) * kRegions);
+  const double alpha = sidak_alpha(0.01, int(cases.size()) * kLargeRegions);
   for (const FurnaceCase& fc : cases) {
     auto start = std::chrono::steady_clock::now();
-    FurnaceResult r = run_case(scene, fc, runs);
+    RegionRuns r = large_region_runs(runs, 7001, [&](std::uint32_t seed) { return furnace_render(scene, fc, seed); });
     double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const double t_mean = (r.mean[0] - exact) / r.se[0];
     std::printf("[furnace a=%.2f] %-40s mean %.5f (exact %.5f, %+.2f %%)  rel. se %.3f %%  t %+.2f  %.1f s\n", albedo,
                 fc.name.c_str(), r.mean[0], exact, 100.0 * (r.mean[0] / exact - 1.0), 100.0 * r.se[0] / exact, t_mean,
                 seconds);
     EXPECT_LT(r.se[0] / exact, kMaxRelativeSe) << fc.name << ": too noisy to see a 2 % bias";
-    for (int i = 0; i < kRegions; ++i) {
+    for (int i = 0; i < kLargeRegions; ++i) {
       const double t = (r.mean[i] - exact) / r.se[i];
       EXPECT_GT(student_t_two_sided_p(t, runs - 1), alpha)
-          << fc.name << ", a " << albedo << ", " << (i == 0 ? std::string("image mean") : "quadrant " + std::to_string(i))
+          << fc.name << ", a " << albedo << ", " << large_region_name(i)
           << ": " << r.mean[i] << " vs exact " << exact << " (t " << t << ", se " << r.se[i] << ")";
     }
   }
