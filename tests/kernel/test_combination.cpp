@@ -108,7 +108,7 @@ TEST(Combination, ImageMeanAndQuadrantsMatchThePathTracerWithThePowerToSeeTwoPer
   std::printf("[glossy box] PT reference: mean %.5f, rel. se %.3f %%, %.1f s\n", reference.mean[0],
               100.0 * reference.se[0] / reference.mean[0], ref_seconds);
   // Without light sampling RB meets the 0.3 m light in few bundle directions (2.7 % standard error
-  // at 24 x 64 iterations, N2/N1 4): those cases run PT-heavy, where beta < 1 at nearly every vertex.
+  // at 32 runs x 64 iterations, N2/N1 4): those cases run PT-heavy, where beta < 1 at nearly every vertex.
   const std::vector<GlossyCase> cases = {
       {"N2/N1 4, beta clamped, light sampling", BP_BETA_CLAMPED, true, 1, 4, 16},
       {"N2/N1 4, beta balance, light sampling", BP_BETA_BALANCE, true, 1, 4, 16},
