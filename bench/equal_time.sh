@@ -5,7 +5,8 @@
 # (bench/reference.sh, cached under ~/.cache/bundlepath/references). Prints a Markdown table and writes the paper's
 # Figure 4 as bench-out/<scene>-contact-sheet.png.
 # Usage: bench/equal_time.sh [SCENE] [SECONDS] [SIZE] [REFERENCE_SPP]   (SCENE: a name of bench_scene, e.g.
-#        cornell-glossy or rooms-100000, or a path)
+#        cornell-glossy or rooms-100000, or a path; SIZE: N for NxN or WxH, e.g. 640x360 [128];
+#        REFERENCE_SPP: the reference's spp at 128x128, scaled to SIZE by bench_reference_spp [16384])
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 # shellcheck source=bench/lib.sh
@@ -14,8 +15,11 @@ cd "$bench_root"
 scene=$(bench_scene "${1:-cornell-glossy}")
 seconds=${2:-30}
 size=${3:-128}
-ref_spp=${4:-16384}
+ref_spp=$(bench_reference_spp "${4:-16384}" "$size")
 name=$(bench_scene_name "$scene")
+mapfile -t wh < <(bench_size_args "$size")
+sheet=bench-out/$name-contact-sheet.png
+[ "${wh[1]}" = 128 ] && [ "${wh[3]}" = 128 ] || sheet=bench-out/$name-${wh[1]}x${wh[3]}-contact-sheet.png
 mkdir -p bench-out
 ref=$(bench_reference "$scene" "$ref_spp" "$size")
 ref=${ref%.exr}
@@ -23,13 +27,16 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 run() {  # label, then render options
   local label=$1; shift
-  bench_render "$scene" --width "$size" --height "$size" --time "$seconds" --reference "$ref.exr" \
+  bench_render "$scene" "${wh[@]}" --time "$seconds" --reference "$ref.exr" \
     --out "$tmp/img" --stats "$tmp/s.json" "$@" 2>/dev/null
   python3 - "$label" "$tmp/s.json" <<'PY'
 import json, sys
 s = json.load(open(sys.argv[2]))
 m = s["reference"]["layers"]["combined"]
 work = f"{s['spp']} spp" + (f" + {s['iterations']} it" if s.get("iterations") else "")
+if "ratio_auto" in s:
+    c = s["ratio"]
+    work += f" (auto: c = {c:g})" if c >= 1 else f" (auto: c = 1/{1 / c:g})"
 print(f"| {sys.argv[1]} | {work} | {m['rel_mse']:.5f} | {m['rmse']:.4f} | {m['mean_bias']:+.4f} | {1/(m['rel_mse']*s['render_seconds']):.1f} |")
 PY
 }
@@ -52,8 +59,9 @@ run "PT (\`--mode pt\`)" --mode pt
 for ratio in 4 1 1/4 1/16; do
   run "combined, product weights, ratio $ratio" --mode combined --weights product --ratio $ratio
 done
+run "combined, product weights, \`--ratio auto\` (the default)" --mode combined --weights product --ratio auto
 run "combined, product weights with \`--beta balance\`, ratio 1/4" --mode combined --beta balance --ratio 1/4
-bench_render "$scene" --width "$size" --height "$size" --time "$seconds" --mode combined --ratio 1/4 --no-light-sampling \
-  --reference "$ref.exr" --contact-sheet "bench-out/$name-contact-sheet.png" --out "$tmp/sheet" 2>/dev/null
+bench_render "$scene" "${wh[@]}" --time "$seconds" --mode combined --ratio 1/4 --no-light-sampling \
+  --reference "$ref.exr" --contact-sheet "$sheet" --out "$tmp/sheet" 2>/dev/null
 echo
-echo "(${size}x${size}, reference ${ref_spp} spp; $("$BUNDLEPATH" devices | head -1))"
+echo "(${wh[1]}x${wh[3]}, reference ${ref_spp} spp; $("$BUNDLEPATH" devices | head -1))"

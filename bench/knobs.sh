@@ -20,7 +20,7 @@ BASE_FLAGS="--mode combined --weights product"
 KNOBS=(
   "--bins|64 96 192 256 384|64"
   "--patch-size|0.1 0.07 0.035 0.025 0.0175|0.1"
-  "--ratio|4 1 1/16 1/64|1"
+  "--ratio|4 1 1/4 1/16 1/64|1"
 )
 
 quick=0; repeats=1; out=""; cap=16; size=128; ref_spp=16384; plots=1

@@ -9,8 +9,14 @@
 #   BENCH_REF_FLAGS   extra flags for reference renders (e.g. light sampling, once it exists)
 #
 # bench_reference SCENE SPP SIZE   -> prints the path of a cached PT reference (.exr), rendering it
-#                                     first if needed (resumable chunks, see bench/reference.sh)
-# bench_rooms_scene TRIANGLES      -> prints the path of a cached procedural rooms scene (.glb)
+#                                     first if needed (resumable chunks, see bench/reference.sh);
+#                                     SIZE is WxH (640x360) or N (NxN)
+# bench_size_args SIZE             -> --width W --height H, one a line
+# bench_resolutions LIST           -> the sizes of "128x128,640x360" (commas or spaces), one a line
+# bench_reference_spp SPP SIZE     -> a reference's spp at SIZE: SPP up to 128x128 pixels; larger,
+#                                     the same pixel samples as a power of 2, and at least those of
+#                                     1024 spp at 640x360 (1024 spp there, 256 at 1280x720), at most SPP
+# bench_rooms_scene TRIANGLES [SEED [lambert]] -> prints the path of a cached procedural rooms scene (.glb)
 # bench_render ARGS...             -> the renderer with BENCH_DEVICE applied, stderr kept in a log
 # bench_has_flag FLAG              -> true when `render --help` mentions FLAG
 # bench_budgets CAP                -> the wall-time budgets 1, 2, 4, ... up to CAP seconds, one a line
@@ -65,12 +71,47 @@ bench_scene_name() {
   echo "${b%.*}"
 }
 
+bench_size_args() {
+  case $1 in
+    *x*) printf '%s\n' --width "${1%x*}" --height "${1#*x}" ;;
+    *) printf '%s\n' --width "$1" --height "$1" ;;
+  esac
+}
+
+bench_resolutions() {
+  local r
+  for r in ${1//,/ }; do
+    if ! [[ $r =~ ^[0-9]+(x[0-9]+)?$ ]]; then echo "bench: resolution '$r' is not WxH (e.g. 640x360)" >&2; return 2; fi
+    echo "$r"
+  done
+}
+
+bench_reference_spp() {
+  python3 - "$1" "$2" <<'PY'
+import sys
+spp, size = int(sys.argv[1]), sys.argv[2]
+w, _, h = size.partition("x")
+pixels = int(w) * int(h or w)
+def pow2_floor(x):
+    p = 1
+    while p * 2 <= x:
+        p *= 2
+    return p
+# The pixel samples of SPP at 128x128, and at least those of 1024 spp at 640x360 (the same time).
+same = max(pow2_floor(spp * 128 * 128 / pixels), pow2_floor(1024 * 640 * 360 / pixels))
+print(spp if pixels <= 128 * 128 else min(spp, same))
+PY
+}
+
 # bench_reference SCENE SPP SIZE: the one place that renders and caches path-traced references.
 # The render runs in chunks of BENCH_REF_CHUNK seconds with a checkpoint, so an interrupted
 # reference (Ctrl-C, a killed job) continues where it stopped the next time it is asked for.
 bench_reference() {
   local scene=$1 spp=$2 size=$3
   local dir=$BENCH_CACHE/references
+  local -a wh
+  mapfile -t wh < <(bench_size_args "$size")
+  size=${wh[1]}; [ "${wh[1]}" = "${wh[3]}" ] || size=${wh[1]}x${wh[3]}  # NxN keeps the name N (older caches)
   mkdir -p "$dir"
   local flags_tag=""
   if [ -n "${BENCH_REF_FLAGS:-}" ]; then flags_tag=-$(echo "$BENCH_REF_FLAGS" | sha256sum | cut -c1-6); fi
@@ -83,10 +124,10 @@ bench_reference() {
   local -a extra=(${BENCH_REF_FLAGS:-})
   while :; do
     if [ -f "$ck" ]; then resume=(--resume "$ck"); echo "bench: resuming reference $(basename "$ref") ..." >&2
-    else echo "bench: rendering reference $(basename "$ref") ($spp spp at ${size}x$size, once; cached in $dir) ..." >&2
+    else echo "bench: rendering reference $(basename "$ref") ($spp spp at ${wh[1]}x${wh[3]}, once; cached in $dir) ..." >&2
     fi
     local rc=0
-    bench_render "$scene" --mode pt --width "$size" --height "$size" --spp "$spp" --seed 7 "${extra[@]}" \
+    bench_render "$scene" --mode pt "${wh[@]}" --spp "$spp" --seed 7 "${extra[@]}" \
       --time "$BENCH_REF_CHUNK" --checkpoint "$ck" --checkpoint-every 30 "${resume[@]}" \
       --out "$part" --stats "$part.json" >&2 2>>"$ref.log" || rc=$?
     if [ $rc -ne 0 ]; then
@@ -105,13 +146,16 @@ bench_reference() {
   echo "$ref.exr"
 }
 
-# bench_rooms_scene TRIANGLES: a procedural rooms scene (host/scene/procedural.cpp) written as .glb
-# by bench/make_rooms, cached (it is a pure function of the triangle count and seed).
+# bench_rooms_scene TRIANGLES [SEED [lambert]]: a procedural rooms scene (host/scene/procedural.cpp)
+# written as .glb by bench/make_rooms, cached (a pure function of the triangle count, seed and
+# materials); "lambert" writes every material pure Lambert (make_rooms --lambert).
 bench_rooms_scene() {
-  local n=$1 seed=${2:-1}
+  local n=$1 seed=${2:-1} variant=${3:-}
   local dir=$BENCH_CACHE/scenes
   mkdir -p "$dir"
   local out=$dir/rooms-$n-s$seed.glb
+  local -a make_flags=()
+  if [ "$variant" = lambert ]; then out=$dir/rooms-lambert-$n-s$seed.glb; make_flags=(--lambert); fi
   if [ ! -f "$out" ]; then
     local tool=$BENCH_BUILD_DIR/bench/make_rooms
     [ -x "$tool" ] || tool=$BENCH_BUILD_DIR/make_rooms
@@ -119,16 +163,17 @@ bench_rooms_scene() {
       echo "bench: $tool missing (build the 'make_rooms' target)" >&2
       return 2
     fi
-    "$tool" "$n" "$out.tmp.glb" --seed "$seed" >&2
+    "$tool" "$n" "$out.tmp.glb" --seed "$seed" "${make_flags[@]}" >&2
     mv "$out.tmp.glb" "$out"
   fi
   echo "$out"
 }
 
 # bench_scene NAME: a scene name of the study -> a file. cornell-box, cornell-glossy (scenes/),
-# rooms-N (procedural, N triangles), or a path.
+# rooms-N (procedural, N triangles), rooms-lambert-N (the same house, every material Lambert), or a path.
 bench_scene() {
   case $1 in
+    rooms-lambert-*) bench_rooms_scene "${1#rooms-lambert-}" 1 lambert ;;
     rooms-*) bench_rooms_scene "${1#rooms-}" ;;
     *.gltf|*.glb) echo "$1" ;;
     *) echo "$bench_root/scenes/$1.gltf" ;;

@@ -2,17 +2,26 @@
 // binary (.glb) or .gltf, so `bundlepath render` can draw it: materials as extras.phong plus
 // emissiveFactor / KHR_materials_emissive_strength, double-sided walls as doubleSided, the camera as
 // a node. The file is read back with the renderer's own loader and checked (triangle count,
-// materials, camera) before the tool reports success.
-// Usage: make_rooms TRIANGLES OUT.glb|OUT.gltf [--seed N]
+// materials, camera) before the tool reports success. The camera has no zfar (an infinite
+// projection): tinygltf always writes one, 0 when unset, which is not valid glTF (zfar > znear) and
+// makes Blender clip everything, so the written JSON is edited before it reaches the file.
+// Usage: make_rooms TRIANGLES OUT.glb|OUT.gltf [--seed N] [--lambert]
+//   --lambert: every material pure Lambert (ks = 0, kd kept): the "Lambert house".
 #include "scene/tinygltf.h"
 
 #include "scene/gltf_loader.h"
 #include "scene/procedural.h"
 
+#include <nlohmann/json.hpp>
+
 #include <algorithm>
+#include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -119,23 +128,112 @@ tinygltf::Model to_gltf(const bp::Scene& scene) {
   return model;
 }
 
+// The glTF JSON with every perspective camera's zfar removed (glTF: absent zfar = infinite projection).
+std::string without_zfar(const std::string& json_text) {
+  nlohmann::json doc = nlohmann::json::parse(json_text);
+  if (doc.contains("cameras"))
+    for (auto& camera : doc["cameras"])
+      if (camera.contains("perspective")) camera["perspective"].erase("zfar");
+  return doc.dump();
+}
+
+std::uint32_t read_u32(const std::string& s, std::size_t at) {
+  std::uint32_t v;
+  std::memcpy(&v, s.data() + at, 4);
+  return v;
+}
+
+void append_u32(std::string& s, std::uint32_t v) { s.append(reinterpret_cast<const char*>(&v), 4); }
+
+// tinygltf's output with the JSON edited by without_zfar: a .gltf is the JSON itself; a .glb is a
+// 12-byte header, the JSON chunk (padded with spaces to 4 bytes) and the BIN chunk, rebuilt here.
+std::string fix_camera(const std::string& written, bool binary) {
+  if (!binary) return without_zfar(written);
+  if (written.size() < 20 || written.compare(0, 4, "glTF") != 0) throw std::runtime_error("not a GLB stream");
+  const std::uint32_t json_length = read_u32(written, 12);
+  std::string json = without_zfar(written.substr(20, json_length));
+  while (json.size() % 4) json += ' ';
+  const std::string rest = written.substr(20 + json_length);  // the BIN chunk, header included
+  std::string out = "glTF";
+  append_u32(out, 2);
+  append_u32(out, std::uint32_t(12 + 8 + json.size() + rest.size()));
+  append_u32(out, std::uint32_t(json.size()));
+  append_u32(out, 0x4E4F534Au);  // "JSON"
+  out += json;
+  out += rest;
+  return out;
+}
+
+const char kUsage[] =
+    "usage: make_rooms TRIANGLES OUT.glb|OUT.gltf [--seed N] [--lambert]\n"
+    "  TRIANGLES  about how many triangles the rooms are tessellated to (a positive integer)\n"
+    "  --seed N   the layout's seed [1]\n"
+    "  --lambert  every material pure Lambert (ks = 0, kd kept)\n";
+
+bool parse_count(const char* text, std::uint64_t& value) {
+  const char* end = text + std::strlen(text);
+  auto [ptr, ec] = std::from_chars(text, end, value);
+  return ec == std::errc() && ptr == end && end != text;
+}
+
+int usage_error(const std::string& message) {
+  std::fprintf(stderr, "make_rooms: %s\n%s", message.c_str(), kUsage);
+  return 2;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc < 3) {
-    std::fprintf(stderr, "usage: make_rooms TRIANGLES OUT.glb|OUT.gltf [--seed N]\n");
-    return 2;
-  }
-  const std::size_t target = std::stoull(argv[1]);
-  const std::string out = argv[2];
+  std::vector<std::string> positional;
   std::uint32_t seed = 1;
-  for (int i = 3; i < argc; ++i)
-    if (std::strcmp(argv[i], "--seed") == 0 && i + 1 < argc) seed = std::uint32_t(std::stoul(argv[++i]));
-  const bp::Scene scene = bp::make_rooms_scene(target, seed);
-  const tinygltf::Model model = to_gltf(scene);
+  bool lambert = false;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "-h" || arg == "--help") {
+      std::fputs(kUsage, stdout);
+      return 0;
+    } else if (arg == "--lambert") {
+      lambert = true;
+    } else if (arg == "--seed") {
+      std::uint64_t value = 0;
+      if (i + 1 >= argc) return usage_error("--seed: missing value");
+      if (!parse_count(argv[++i], value) || value > 0xffffffffu)
+        return usage_error(std::string("--seed: expected an integer in 0..4294967295, got '") + argv[i] + "'");
+      seed = std::uint32_t(value);
+    } else if (arg.size() > 1 && arg[0] == '-') {
+      return usage_error("unknown option '" + arg + "'");
+    } else {
+      positional.push_back(arg);
+    }
+  }
+  if (positional.size() != 2) return usage_error("expected TRIANGLES and OUT, got " + std::to_string(positional.size()) + " arguments");
+  std::uint64_t target = 0;
+  if (!parse_count(positional[0].c_str(), target) || target == 0 || target > (1ull << 32))
+    return usage_error("TRIANGLES: expected a positive integer, got '" + positional[0] + "'");
+  const std::string out = positional[1];
   const bool binary = out.size() >= 4 && out.compare(out.size() - 4, 4, ".glb") == 0;
+  const bool text = out.size() >= 5 && out.compare(out.size() - 5, 5, ".gltf") == 0;
+  if (!binary && !text) return usage_error("OUT must end in .glb or .gltf, got '" + out + "'");
+
+  bp::Scene scene = bp::make_rooms_scene(std::size_t(target), seed);
+  if (lambert)
+    for (bp::SceneMaterial& m : scene.materials) m.ks = glm::vec3(0.0f);
+  const tinygltf::Model model = to_gltf(scene);
   tinygltf::TinyGLTF writer;
-  if (!writer.WriteGltfSceneToFile(&model, out, false, true, !binary, binary)) {
+  std::ostringstream written;
+  bool ok = writer.WriteGltfSceneToStream(&model, written, !binary, binary);
+  if (ok) {
+    try {
+      const std::string bytes = fix_camera(written.str(), binary);
+      std::ofstream file(out, std::ios::binary);
+      file.write(bytes.data(), std::streamsize(bytes.size()));
+      ok = bool(file);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "make_rooms: cannot edit the camera of %s: %s\n", out.c_str(), e.what());
+      return 1;
+    }
+  }
+  if (!ok) {
     std::fprintf(stderr, "make_rooms: cannot write %s\n", out.c_str());
     return 1;
   }
@@ -153,7 +251,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "make_rooms: %s does not load: %s\n", out.c_str(), e.what());
     return 1;
   }
-  std::fprintf(stderr, "make_rooms: %s: %zu triangles (%zu emissive), %zu materials\n", out.c_str(),
-               scene.triangles.size(), scene.emissive_triangles(), scene.materials.size());
+  std::fprintf(stderr, "make_rooms: %s: %zu triangles (%zu emissive), %zu materials%s\n", out.c_str(),
+               scene.triangles.size(), scene.emissive_triangles(), scene.materials.size(),
+               lambert ? ", all Lambert" : "");
   return 0;
 }

@@ -37,27 +37,45 @@ static float paper_log_p_out(float3 emitted, float3 reflected, float log_p_refle
 }
 
 // The per-patch light sample of DESIGN.md §3: one shadow ray from a random point of the patch to a
-// light chosen by power, its reflection towards wo weighted as the RB light technique of the last
-// segment (the product of the vertices before it is applied downstream, as for every reflection).
-static float3 rb_light_sample(__global const BundleElement* e, float3 n, const Bsdf* bsdf, float3 wo,
-                              __global const BvhNode* nodes, __global const BvhTriangle* triangles,
-                              __global const Light* lights, __global const float* light_cdf,
-                              __global const Material* materials, const BundleIteration* it, Rng* rng,
-                              float ray_epsilon) {
+// light chosen for the patch. `irradiance` is L cos / p_solid over the rate at which patches take this
+// sample (0 when the light is not reached); the techniques' weights are applied by the callers.
+typedef struct {
+  float3 wi;          // towards the light
+  float3 irradiance;  // unweighted, over the rate
+  float pdf_light;    // p_L of wi (uv)
+  int is_delta;
+} PatchLightSample;
+
+static PatchLightSample rb_light_sample(__global const BundleElement* e, float3 n, __global const BvhNode* nodes,
+                                        __global const BvhTriangle* triangles, const LightSet* light_set,
+                                        uint patch, __global const Material* materials, const BundleIteration* it,
+                                        Rng* rng, float ray_epsilon) {
+  PatchLightSample out;
+  out.irradiance = make_float3(0.0f, 0.0f, 0.0f);
   float root = sqrt(rng_uniform(rng)), u = rng_uniform(rng);  // uniform on the element
   float3 x = bp_load3(e->v0) + bp_load3(e->e1) * (root * (1.0f - u)) + bp_load3(e->e2) * (root * u) + n * ray_epsilon;
   float u_pick = rng_uniform(rng), u1 = rng_uniform(rng), u2 = rng_uniform(rng);
-  LightSample ls = light_sample(lights, light_cdf, it->light_count, materials, x, u_pick, u1, u2);
+  LightSample ls = light_sample(light_set, materials, patch, x, u_pick, u1, u2);
+  out.wi = ls.wi;
+  out.pdf_light = ls.pdf_uv;
+  out.is_delta = ls.is_delta;
   float cos_x = dot(n, ls.wi);
-  if (!(cos_x > 0.0f) || ls.radiance_over_pdf.x + ls.radiance_over_pdf.y + ls.radiance_over_pdf.z <= 0.0f)
-    return make_float3(0.0f, 0.0f, 0.0f);
+  if (!(cos_x > 0.0f) || ls.radiance_over_pdf.x + ls.radiance_over_pdf.y + ls.radiance_over_pdf.z <= 0.0f) return out;
   float t_max = ls.is_delta ? ls.distance : ls.distance - 4.0f * ray_epsilon;
-  if (t_max <= 0.0f || bvh_occluded(nodes, triangles, x, ls.wi, t_max)) return make_float3(0.0f, 0.0f, 0.0f);
-  BsdfValue v = bsdf_evaluate(bsdf, n, ls.wi, wo);
+  if (t_max <= 0.0f || bvh_occluded(nodes, triangles, x, ls.wi, t_max)) return out;
+  out.irradiance = ls.radiance_over_pdf * (cos_x / it->light_rate);  // L cos / p_solid, over the rate
+  return out;
+}
+
+// The light sample reflected towards wo, weighted as the RB light technique of the last segment (the
+// product of the vertices before it is applied downstream, as for every reflection).
+static float3 rb_light_reflected(const PatchLightSample* ls, const Bsdf* bsdf, float3 n, float3 wo,
+                                 const BundleIteration* it) {
+  if (ls->irradiance.x + ls->irradiance.y + ls->irradiance.z <= 0.0f) return make_float3(0.0f, 0.0f, 0.0f);
+  BsdfValue v = bsdf_evaluate(bsdf, n, ls->wi, wo);
   float pdf_bsdf = bsdf->continuation * v.pdf_uv;
-  float w = last_segment_weights(1.0f, it->weight_ratio, it->light_rate, pdf_bsdf, ls.pdf_uv, ls.is_delta).rb_light;
-  // f cos L / p_solid, weighted, over the rate at which patches take this sample
-  return v.f * ls.radiance_over_pdf * (cos_x * w / it->light_rate);
+  float w = last_segment_weights(1.0f, it->weight_ratio, it->light_rate, pdf_bsdf, ls->pdf_light, ls->is_delta).rb_light;
+  return v.f * ls->irradiance * w;  // f L cos / p_solid, weighted
 }
 
 // 1. Outgoing radiance of every patch along the new direction: the random operator T* applied to the
@@ -70,7 +88,9 @@ __kernel void rb_outgoing(__global const BundleElement* elements, __global const
                           const BundleIteration it, const uint patches, __global float4* l_out,
                           __global const BvhNode* nodes, __global const BvhTriangle* triangles,
                           __global const Light* lights, __global const float* light_cdf, const uint light_seed,
-                          const uint iteration, const float ray_epsilon) {
+                          const uint iteration, const float ray_epsilon, __global float4* eye_light,
+                          __global const LightTreeNode* light_tree, __global const LightReceiver* light_receivers,
+                          const uint light_selection) {
   uint p = (uint)get_global_id(0);
   if (p >= patches) return;
   uint pe = patch_element[p];
@@ -81,6 +101,28 @@ __kernel void rb_outgoing(__global const BundleElement* elements, __global const
   BsdfValue v = bsdf_evaluate(&bsdf, n, wi, wo);
   float3 transfer = v.f * BP_TWO_PI;  // 2 pi f, times E_in = L_in cos below
   const int light_sampling = BP_FEATURE_LIGHT_SAMPLING && it.light_count > 0u;
+  const uint eye_chain = light_sampling && it.eye_direct_chain ? it.eye_direct_chain : it.chains;  // chains: none
+  PatchLightSample ls;
+  ls.irradiance = make_float3(0.0f, 0.0f, 0.0f);
+  ls.wi = n;  // where no sample is taken: a direction rb_eye may reflect zero along
+  if (light_sampling) {
+    Rng rng = rng_init(light_seed, p, iteration);
+    LightSet light_set_ = light_set(lights, light_cdf, light_tree, light_receivers, it.light_count, light_selection);
+    // a black patch reflects no light sample; the others take one at the rate it.light_rate
+    if (bsdf.continuation > 0.0f && (it.light_rate >= 1.0f || rng_uniform(&rng) < it.light_rate))
+      ls = rb_light_sample(&elements[pe & ~BP_BACK_SIDE], n, nodes, triangles, &light_set_, p, materials, &it, &rng,
+                           ray_epsilon);
+  }
+  if (eye_chain < it.chains) {
+    // The same sample for the eye vertex (--eye-direct shared): its irradiance weighted as the RB
+    // light technique of the eye vertex's last segment, and its direction, for rb_eye to reflect.
+    float w = ls.irradiance.x + ls.irradiance.y + ls.irradiance.z > 0.0f
+                  ? eye_segment_weights(it.weight_ratio, it.light_rate, eye_direct_proxy_pdf_uv(&bsdf, dot(n, ls.wi)),
+                                        0.0f, ls.pdf_light, ls.is_delta).rb_light
+                  : 0.0f;
+    eye_light[2 * p] = (float4)(ls.irradiance.x * w, ls.irradiance.y * w, ls.irradiance.z * w, 0.0f);
+    eye_light[2 * p + 1] = (float4)(ls.wi.x, ls.wi.y, ls.wi.z, 0.0f);
+  }
   for (uint c = 0; c < it.chains; ++c) {
     float4 e = e_in[p * it.chains + c];
     float3 reflected = transfer * make_float3(e.x, e.y, e.z);
@@ -92,15 +134,11 @@ __kernel void rb_outgoing(__global const BundleElement* elements, __global const
       w = paper_log_pstar_step(bsdf.continuation, v.pdf_uv, e.w);  // (10)
     if (c == 0 && light_sampling) {
       float4 direct = e_in[p * it.chains + it.direct_chain];  // already weighted per fragment
-      reflected += transfer * make_float3(direct.x, direct.y, direct.z);
-      Rng rng = rng_init(light_seed, p, iteration);
-      // a black patch reflects no light sample; the others take one at the rate it.light_rate
-      if (bsdf.continuation > 0.0f && (it.light_rate >= 1.0f || rng_uniform(&rng) < it.light_rate))
-        reflected += rb_light_sample(&elements[pe & ~BP_BACK_SIDE], n, &bsdf, wo, nodes, triangles, lights, light_cdf,
-                                   materials, &it, &rng, ray_epsilon);
+      reflected += transfer * make_float3(direct.x, direct.y, direct.z) + rb_light_reflected(&ls, &bsdf, n, wo, &it);
       emitted = make_float3(0.0f, 0.0f, 0.0f);
     }
-    if (light_sampling && c == it.direct_chain) emitted = reflected = make_float3(0.0f, 0.0f, 0.0f);  // unused
+    if (light_sampling && (c == it.direct_chain || c == eye_chain))
+      emitted = reflected = make_float3(0.0f, 0.0f, 0.0f);  // unused: direct chains are received from Le
     if (c == 0 && it.weight_mode == BP_WEIGHTS_PAPER) w = paper_log_p_out(emitted, reflected, w);
     float3 l = emitted + reflected;
     l_out[p * it.chains + c] = (float4)(l.x, l.y, l.z, w);
@@ -181,22 +219,34 @@ static void sides_along(__global const BundleElement* e, float3 omega, uint* min
   *plus_patch = front_faces_minus ? e->back_patch : e->front_patch;
 }
 
-// Light straight from an emitter, as the direct chain of a receiving patch takes it: the sender's
-// Le weighted as the RB bundle technique of the last segment (DESIGN.md §3). The light travels along
+// Light straight from an emitter, as a direct chain of a receiving patch takes it: the sender's Le
+// weighted as the RB bundle technique of the last segment (DESIGN.md §3). The light travels along
 // `travel` over `distance` (the fragments' depth difference) from the sender element to the
-// receiver's side with normal n_receiver; the receiver will send it along omega_next.
+// receiver's side with normal n_receiver. For the direct chain the receiver will send it along
+// omega_next (PT's density of that pair); for the eye chain (eye_vertex) the eye sees the receiver,
+// and the view-independent proxy stands in for PT's density.
+// The patches: the sender's emitting side, the receiver's receiving side (light selection's receiver).
 static float4 rb_direct_received(__global const BundleElement* elements, __global const Material* materials,
                                  uint sender_element, uint receiver_element, float3 n_receiver, float3 travel,
-                                 float distance, const BundleIteration* it) {
+                                 float distance, int eye_vertex, const BundleIteration* it, const LightSet* light_set,
+                                 uint sender_patch, uint receiver_patch) {
   __global const BundleElement* se = &elements[sender_element];
   __global const Material* sm = &materials[se->material];
   float3 le = bp_load3(sm->emission);
   if (le.x + le.y + le.z <= 0.0f) return (float4)(0.0f);
-  float p_light = light_pdf_uv_area(sm->light_pdf_area, distance, fabs(dot(bp_load3(se->normal), travel)));
+  float p_light = light_pdf_uv_area(light_pdf_area_from(light_set, materials, receiver_patch, sender_patch, se->material),
+                                    distance, fabs(dot(bp_load3(se->normal), travel)));
   Bsdf receiver = bsdf_from_material(&materials[elements[receiver_element].material]);
-  float3 wi = facing(n_receiver, travel), wo = facing(n_receiver, bp_private3(it->omega_next));
-  float pdf_bsdf = receiver.continuation * bsdf_pdf_uv(&receiver, n_receiver, wi, wo);
-  float w = last_segment_weights(1.0f, it->weight_ratio, it->light_rate, pdf_bsdf, p_light, 0).rb_bundle;
+  float3 wi = facing(n_receiver, travel);
+  float w;
+  if (eye_vertex) {
+    float proxy = eye_direct_proxy_pdf_uv(&receiver, dot(n_receiver, wi));
+    w = eye_segment_weights(it->weight_ratio, it->light_rate, proxy, 0.0f, p_light, 0).rb_bundle;
+  } else {
+    float3 wo = facing(n_receiver, bp_private3(it->omega_next));
+    float pdf_bsdf = receiver.continuation * bsdf_pdf_uv(&receiver, n_receiver, wi, wo);
+    w = last_segment_weights(1.0f, it->weight_ratio, it->light_rate, pdf_bsdf, p_light, 0).rb_bundle;
+  }
   return (float4)(le.x * w, le.y * w, le.z * w, 0.0f);
 }
 
@@ -209,7 +259,9 @@ __kernel void rb_tile_resolve(__global const BundleElement* elements, __global c
                               __global const float* tiled_depth, __global const uint* tiled_element,
                               __global uint* tile_order, __global const float4* l_out, const BundleIteration it,
                               const uint tiles, __global float4* received_minus, __global float4* received_plus,
-                              __global ulong* fragment_total) {
+                              __global ulong* fragment_total, __global const Light* lights,
+                              __global const float* light_cdf, __global const LightTreeNode* light_tree,
+                              __global const LightReceiver* light_receivers, const uint light_selection) {
   uint tile = (uint)get_global_id(0);
   if (tile == 0u) *fragment_total += tile_start[tiles];  // for the statistics, read back with the image sums
   if (tile >= tiles) return;
@@ -225,7 +277,10 @@ __kernel void rb_tile_resolve(__global const BundleElement* elements, __global c
 
   const float3 omega = bp_private3(it.omega);
   const float4 nothing = (float4)(0.0f, 0.0f, 0.0f, BP_NO_SENDER);  // black, and no P
-  const uint chains = it.chains, direct = BP_FEATURE_LIGHT_SAMPLING && it.light_count > 0u ? it.direct_chain : chains;  // chains: none
+  const int light_sampling = BP_FEATURE_LIGHT_SAMPLING && it.light_count > 0u;
+  const uint chains = it.chains, direct = light_sampling ? it.direct_chain : chains;  // chains: none
+  const uint eye = light_sampling && it.eye_direct_chain ? it.eye_direct_chain : chains;
+  const LightSet light_set_ = light_set(lights, light_cdf, light_tree, light_receivers, it.light_count, light_selection);
   for (uint b = 0; b < BP_TILE_BINS; ++b) {
     uint first = begin + bin_start[b], last = begin + bin_start[b + 1];
     if (first == last) continue;
@@ -248,10 +303,10 @@ __kernel void rb_tile_resolve(__global const BundleElement* elements, __global c
       float3 n = bp_load3(elements[element].normal);
       for (uint c = 0; c < chains; ++c) {
         float4 r = nothing;
-        if (sender != BP_NO_PATCH && c == direct && minus_patch != BP_NO_PATCH)
+        if (sender != BP_NO_PATCH && (c == direct || c == eye) && minus_patch != BP_NO_PATCH)
           r = rb_direct_received(elements, materials, sender_element, element, facing(-omega, n), omega,
-                                 depth - sender_depth, &it);
-        else if (sender != BP_NO_PATCH && c != direct)
+                                 depth - sender_depth, c == eye, &it, &light_set_, sender, minus_patch);
+        else if (sender != BP_NO_PATCH && c != direct && c != eye)
           r = l_out[sender * chains + c];
         received_minus[fragment * chains + c] = r;
       }
@@ -270,10 +325,10 @@ __kernel void rb_tile_resolve(__global const BundleElement* elements, __global c
       }
       for (uint c = 0; c < chains; ++c) {
         float4 r = nothing;
-        if (next_minus != BP_NO_PATCH && c == direct && own_plus != BP_NO_PATCH)
+        if (next_minus != BP_NO_PATCH && (c == direct || c == eye) && own_plus != BP_NO_PATCH)
           r = rb_direct_received(elements, materials, next_element, element, facing(omega, n), -omega,
-                                 next_depth - depth, &it);
-        else if (next_minus != BP_NO_PATCH && c != direct)
+                                 next_depth - depth, c == eye, &it, &light_set_, next_minus, own_plus);
+        else if (next_minus != BP_NO_PATCH && c != direct && c != eye)
           r = l_out[next_minus * chains + c];
         received_plus[fragment * chains + c] = r;
       }
@@ -353,34 +408,42 @@ __kernel void rb_eye_hits(__global const BvhNode* nodes, __global const BvhTrian
   hits[pixel] = out;
 }
 
-// Gouraud vertices: the area-weighted mean E_in (every chain, P too) of the patches around each
-// welded corner.
+// Values per patch that the eye estimate interpolates: every chain, and with --eye-direct shared the
+// patches' light samples for the eye (eye_light) in one slot more.
+static uint eye_slots(const BundleIteration* it) {
+  return it->chains + (BP_FEATURE_LIGHT_SAMPLING && it->light_count > 0u && it->eye_direct_chain ? 1u : 0u);
+}
+
+// Gouraud vertices: the area-weighted mean E_in (every chain, P too, and the eye's light samples) of
+// the patches around each welded corner.
 __kernel void rb_vertex(__global const uint* vertex_patch_start, __global const uint* vertex_patches,
                         __global const BundleElement* elements, __global const uint* patch_element,
                         __global const float4* e_in, const BundleIteration it, const uint vertices,
-                        __global float4* e_vertex) {
+                        __global float4* e_vertex, __global const float4* eye_light) {
   uint v = (uint)get_global_id(0);
   if (v >= vertices) return;
-  for (uint c = 0; c < it.chains; ++c) {
+  const uint slots = eye_slots(&it);
+  for (uint c = 0; c < slots; ++c) {
     float4 sum = (float4)(0.0f);
     float area = 0.0f;
     for (uint k = vertex_patch_start[v]; k < vertex_patch_start[v + 1]; ++k) {
       uint p = vertex_patches[k];
       float a = elements[patch_element[p] & ~BP_BACK_SIDE].area;
-      sum += e_in[p * it.chains + c] * a;
+      sum += (c < it.chains ? e_in[p * it.chains + c] : eye_light[2 * p]) * a;
       area += a;
     }
-    e_vertex[v * it.chains + c] = area > 0.0f ? sum / area : (float4)(0.0f);
+    e_vertex[v * slots + c] = area > 0.0f ? sum / area : (float4)(0.0f);
   }
 }
 
-// E_in of one chain at an eye hit: the patch's own (flat) or interpolated from its corners (Gouraud).
-static float4 eye_irradiance(const EyeHit* h, __global const float4* e_in, __global const uint* patch_vertices,
-                             __global const float4* e_vertex, uint gouraud, uint chains, uint c) {
-  if (!gouraud) return e_in[h->patch * chains + c];
+// One interpolated value at an eye hit: the patch's own (`flat`) or interpolated from its corners'
+// `slot` (Gouraud).
+static float4 eye_irradiance(const EyeHit* h, float4 flat, __global const uint* patch_vertices,
+                             __global const float4* e_vertex, uint gouraud, uint slots, uint slot) {
+  if (!gouraud) return flat;
   __global const uint* pv = &patch_vertices[3 * h->patch];
-  return e_vertex[pv[0] * chains + c] * (1.0f - h->l1 - h->l2) + e_vertex[pv[1] * chains + c] * h->l1 +
-         e_vertex[pv[2] * chains + c] * h->l2;
+  return e_vertex[pv[0] * slots + slot] * (1.0f - h->l1 - h->l2) + e_vertex[pv[1] * slots + slot] * h->l1 +
+         e_vertex[pv[2] * slots + slot] * h->l2;
 }
 
 // 6. Eye estimate of this iteration: the primary hit reflects its patch's incoming radiance towards
@@ -390,7 +453,7 @@ __kernel void rb_eye(__global const EyeHit* hits, __global const BundleElement* 
                      __global const uint* patch_element, __global const Material* materials,
                      __global const float4* e_in, __global const uint* patch_vertices,
                      __global const float4* e_vertex, const uint gouraud, const BundleIteration it,
-                     const uint pixels, __global float4* pixel_sum) {
+                     const uint pixels, __global float4* pixel_sum, __global const float4* eye_light) {
   uint pixel = (uint)get_global_id(0);
   if (pixel >= pixels) return;
   EyeHit h = hits[pixel];
@@ -402,7 +465,8 @@ __kernel void rb_eye(__global const EyeHit* hits, __global const BundleElement* 
   float3 wi = facing(n, bp_private3(it.omega));
   BsdfValue v = bsdf_evaluate(&bsdf, n, wi, wo);
   float3 transfer = v.f * BP_TWO_PI;
-  float4 e0 = eye_irradiance(&h, e_in, patch_vertices, e_vertex, gouraud, it.chains, 0u);
+  const uint slots = eye_slots(&it);
+  float4 e0 = eye_irradiance(&h, e_in[h.patch * it.chains], patch_vertices, e_vertex, gouraud, slots, 0u);
   float3 reflected0 = transfer * make_float3(e0.x, e0.y, e0.z);
   float3 weighted;
   if (it.weight_mode == BP_WEIGHTS_PRODUCT) {
@@ -410,6 +474,19 @@ __kernel void rb_eye(__global const EyeHit* hits, __global const BundleElement* 
     // With light sampling the eye vertex's emission, like its direct light, is PT's alone.
     weighted = (BP_FEATURE_LIGHT_SAMPLING && it.light_count > 0u ? make_float3(0.0f, 0.0f, 0.0f) : bsdf.emission) +
                reflected0 * vertex_beta(bsdf.continuation, v.pdf_uv, it.weight_ratio, it.beta_heuristic);
+    if (BP_FEATURE_LIGHT_SAMPLING && it.light_count > 0u && it.eye_direct_chain) {
+      // --eye-direct shared: the eye vertex's direct light, weighted per fragment and per shadow ray
+      // as RB's techniques of its last segment (no beta: that vertex is the segment's start).
+      // The light samples' irradiance is interpolated like the chains; it is reflected along the hit
+      // patch's own sample direction (exact for Lambert eye vertices, a patch-level stand-in otherwise).
+      float4 ed = eye_irradiance(&h, e_in[h.patch * it.chains + it.eye_direct_chain], patch_vertices, e_vertex,
+                                 gouraud, slots, it.eye_direct_chain);
+      float4 el = eye_irradiance(&h, eye_light[2 * h.patch], patch_vertices, e_vertex, gouraud, slots, it.chains);
+      float4 el_dir = eye_light[2 * h.patch + 1];
+      weighted += transfer * make_float3(ed.x, ed.y, ed.z);
+      if (el.x + el.y + el.z > 0.0f)
+        weighted += bsdf_evaluate(&bsdf, n, make_float3(el_dir.x, el_dir.y, el_dir.z), wo).f * make_float3(el.x, el.y, el.z);
+    }
   } else if (it.weight_mode == BP_WEIGHTS_PAPER) {
     float log_pstar = paper_log_pstar_step(bsdf.continuation, v.pdf_uv, e0.w);  // (10) at the eye vertex
     weighted = bsdf.emission * paper_rb_weight(0.0f, it.weight_ratio) +  // the emitter seen directly: P = 1
@@ -421,7 +498,8 @@ __kernel void rb_eye(__global const EyeHit* hits, __global const BundleElement* 
   if (it.eye_outputs > 1) {
     float3 raw = bsdf.emission + reflected0;
     if (it.weight_mode == BP_WEIGHTS_PRODUCT) {
-      float4 e1 = eye_irradiance(&h, e_in, patch_vertices, e_vertex, gouraud, it.chains, it.chains - 1u);
+      float4 e1 = eye_irradiance(&h, e_in[h.patch * it.chains + it.chains - 1u], patch_vertices, e_vertex, gouraud,
+                                 slots, it.chains - 1u);
       raw = bsdf.emission + transfer * make_float3(e1.x, e1.y, e1.z);
     }
     pixel_sum[pixel * it.eye_outputs + 1] += (float4)(raw.x, raw.y, raw.z, 0.0f);

@@ -15,8 +15,7 @@ typedef struct {
   BP_GLOBAL const BvhTriangle* triangles;
   BP_GLOBAL const TriangleShading* shading;
   BP_GLOBAL const Material* materials;
-  BP_GLOBAL const Light* lights;
-  BP_GLOBAL const float* light_cdf;
+  LightSet lights;  // with the per-patch receivers that light selection reads
 } SceneRefs;
 
 typedef struct {
@@ -26,21 +25,31 @@ typedef struct {
 
 // The product of beta of the vertices before the one at `depth` (0: the eye vertex): the prefix of
 // the last-segment split of DESIGN.md §3. 0 where PT owns the last segment alone: direct light at
-// the eye vertex, and every path when PT runs without RB.
+// the eye vertex under --eye-direct pt, and every path when PT runs without RB.
 static float last_segment_prefix_beta(const PathTraceParams* params, const PathPdf* pdf, bp_u32 depth) {
-  if (params->weight_mode != BP_WEIGHTS_PRODUCT || depth == 0u) return 0.0f;
+  if (params->weight_mode != BP_WEIGHTS_PRODUCT || (depth == 0u && !params->eye_direct_shared)) return 0.0f;
   return pdf->beta_product;
+}
+
+// The four-technique weights of a last segment from the vertex at `depth` (DESIGN.md §3): at the eye
+// vertex under --eye-direct shared, RB's share from the view-independent proxy density; elsewhere
+// the prefix product and PT's true density on both sides. The raw layer's PT-alone weights are the
+// same with no RB share (prefix 0).
+static LastSegmentWeights pt_last_segment_weights(const PathTraceParams* params, bp_u32 depth, float prefix_beta,
+                                                  float pdf_bsdf, float pdf_proxy, float pdf_light, int is_delta) {
+  if (depth == 0u && prefix_beta > 0.0f)
+    return eye_segment_weights(params->weight_ratio, params->rb_light_rate, pdf_proxy, pdf_bsdf, pdf_light, is_delta);
+  return last_segment_weights(prefix_beta, params->weight_ratio, params->rb_light_rate, pdf_bsdf, pdf_light, is_delta);
 }
 
 // Next-event estimation at a vertex: one light sample, one shadow ray, weighted as the PT light
 // technique of DESIGN.md §3 (the PT-alone balance heuristic for the raw layer).
 static void add_light_sample(const SceneRefs* scene, const PathTraceParams* params, const SurfaceHit* surface,
-                             const Bsdf* bsdf, float3 wo, float3 throughput, float prefix_beta, Rng* rng,
-                             PathRadiance* radiance, bp_u32* rays) {
+                             const Bsdf* bsdf, float3 wo, float3 throughput, bp_u32 depth, float prefix_beta,
+                             Rng* rng, PathRadiance* radiance, bp_u32* rays) {
   float u_pick = rng_uniform(rng), u1 = rng_uniform(rng), u2 = rng_uniform(rng);
   float3 x = surface->position + surface->normal * params->ray_epsilon;
-  LightSample ls = light_sample(scene->lights, scene->light_cdf, params->light_count, scene->materials, x, u_pick,
-                                u1, u2);
+  LightSample ls = light_sample(&scene->lights, scene->materials, surface->patch, x, u_pick, u1, u2);
   float cos_x = dot(surface->normal, ls.wi);
   if (!(cos_x > 0.0f) || ls.radiance_over_pdf.x + ls.radiance_over_pdf.y + ls.radiance_over_pdf.z <= 0.0f) return;
   // An area light's own surface is at ls.distance: stop the shadow ray a few offsets short of it.
@@ -51,8 +60,8 @@ static void add_light_sample(const SceneRefs* scene, const PathTraceParams* para
   float pdf_bsdf = bsdf->continuation * v.pdf_uv;  // s p_b
   // f cos L / p_solid  (the light-sampling estimator of the rendering equation's integral)
   float3 contribution = throughput * v.f * ls.radiance_over_pdf * cos_x;
-  LastSegmentWeights w =
-      last_segment_weights(prefix_beta, params->weight_ratio, params->rb_light_rate, pdf_bsdf, ls.pdf_uv, ls.is_delta);
+  LastSegmentWeights w = pt_last_segment_weights(params, depth, prefix_beta, pdf_bsdf,
+                                                 eye_direct_proxy_pdf_uv(bsdf, cos_x), ls.pdf_uv, ls.is_delta);
   // The raw layer's PT-alone weights: the same as w without a prefix (pt mode, the eye vertex).
   LastSegmentWeights alone =
       prefix_beta > 0.0f
@@ -71,7 +80,9 @@ static PathRadiance trace_path(const SceneRefs* scene, const PathTraceParams* pa
   float3 throughput = make_float3(1.0f, 1.0f, 1.0f);
   PathPdf pdf = path_pdf_start();
   const int light_sampling = BP_FEATURE_LIGHT_SAMPLING && params->light_count > 0u;
-  float last_prefix_beta = 0.0f, last_pdf_bsdf = 0.0f;  // of the vertex that sampled dir: its prefix, s p_b
+  // Of the vertex that sampled dir: its prefix, s p_b, and the eye vertex's proxy density of dir.
+  float last_prefix_beta = 0.0f, last_pdf_bsdf = 0.0f, last_pdf_proxy = 0.0f;
+  bp_u32 last_patch = 0u;  // and its patch
   for (bp_u32 depth = 0; depth < params->max_depth; ++depth) {
     Hit hit;
     *rays += 1u;
@@ -92,10 +103,11 @@ static PathRadiance trace_path(const SceneRefs* scene, const PathTraceParams* pa
       radiance.raw += emitted;
       radiance.weighted += emitted;
     } else if (emits) {
-      float pdf_light = light_pdf_uv_area(scene->materials[surface.material].light_pdf_area, hit.t,
-                                          dot(surface.normal, wo));
-      LastSegmentWeights w = last_segment_weights(last_prefix_beta, params->weight_ratio, params->rb_light_rate,
-                                                  last_pdf_bsdf, pdf_light, 0);
+      float pdf_light = light_pdf_uv_area(
+          light_pdf_area_from(&scene->lights, scene->materials, last_patch, surface.patch, surface.material), hit.t,
+          dot(surface.normal, wo));
+      LastSegmentWeights w = pt_last_segment_weights(params, depth - 1u, last_prefix_beta, last_pdf_bsdf,
+                                                     last_pdf_proxy, pdf_light, 0);
       LastSegmentWeights alone =
           last_prefix_beta > 0.0f
               ? last_segment_weights(0.0f, params->weight_ratio, params->rb_light_rate, last_pdf_bsdf, pdf_light, 0)
@@ -106,7 +118,7 @@ static PathRadiance trace_path(const SceneRefs* scene, const PathTraceParams* pa
 
     float prefix_beta = last_segment_prefix_beta(params, &pdf, depth);
     if (light_sampling && bsdf.continuation > 0.0f)  // a black surface reflects no light sample
-      add_light_sample(scene, params, &surface, &bsdf, wo, throughput, prefix_beta, rng, &radiance, rays);
+      add_light_sample(scene, params, &surface, &bsdf, wo, throughput, depth, prefix_beta, rng, &radiance, rays);
 
     // Russian roulette on the material-only continuation probability s.
     if (rng_uniform(rng) >= bsdf.continuation) break;
@@ -119,6 +131,8 @@ static PathRadiance trace_path(const SceneRefs* scene, const PathTraceParams* pa
                   (cos_theta * BP_TWO_PI / (bsdf.continuation * sample.pdf_uv));
     last_prefix_beta = prefix_beta;
     last_pdf_bsdf = bsdf.continuation * sample.pdf_uv;
+    if (depth == 0u) last_pdf_proxy = eye_direct_proxy_pdf_uv(&bsdf, cos_theta);
+    last_patch = surface.patch;
     // Only the weights of the mode need the pdf state: q and r for paper, prod beta for product.
     if (params->weight_mode == BP_WEIGHTS_PAPER) path_pdf_step(&pdf, bsdf.continuation, sample.pdf_uv);
     if (params->weight_mode == BP_WEIGHTS_PRODUCT)
@@ -134,10 +148,12 @@ __kernel void pathtrace(__global const BvhNode* nodes, __global const BvhTriangl
                         __global const TriangleShading* shading, __global const Material* materials,
                         __global const Light* lights, __global const float* light_cdf,
                         const CameraParams camera, const PathTraceParams params,
-                        __global PixelAccum* accum) {
+                        __global PixelAccum* accum, __global const LightTreeNode* light_tree,
+                        __global const LightReceiver* light_receivers, const uint light_selection) {
   bp_u32 pixel = (bp_u32)get_global_id(0);
   if (pixel >= camera.width * camera.height) return;
-  SceneRefs scene = {nodes, triangles, shading, materials, lights, light_cdf};
+  SceneRefs scene = {nodes, triangles, shading, materials,
+                     light_set(lights, light_cdf, light_tree, light_receivers, params.light_count, light_selection)};
   bp_u32 px = pixel % camera.width, py = pixel / camera.width;
   float3 origin = make_float3(camera.position[0], camera.position[1], camera.position[2]);
   float3 sum = make_float3(0.0f, 0.0f, 0.0f), sum_raw = make_float3(0.0f, 0.0f, 0.0f);

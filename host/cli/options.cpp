@@ -65,14 +65,30 @@ options (defaults in brackets):
   --rb-light-rate R   combined with light sampling: the probability that a patch traces its
                       shadow ray in an iteration, in (0, 1] (the weights count R·N2 samples)
                                                                 [min(1, pixels / patches)]
-  --ratio C           combined: PT samples per pixel per RB iteration         [1/4]
+  --eye-direct E      combined with light sampling: the eye vertex's direct light split with
+                      RB by the four techniques (shared; RB's share from a view-independent
+                      proxy of PT's density) or PT's alone (pt)               [shared]
+  --ratio C           combined: PT samples per pixel per RB iteration, or auto   [auto]
                       0: ray bundles alone (w_RB = 1; count with --iterations or --time)
+                      auto: a short timed probe after the kernels are built (about 2 % of
+                      --time, or of the estimated time of --spp / --iterations, at most
+                      1.5 s, and at least one RB iteration; not counted in --time, its
+                      samples are discarded) measures PT's cost per sample (on the same view
+                      at about 128x128 pixels, scaled) and RB's per iteration, and picks c,
+                      a power of 2, so that PT gets about 30 % of the time; --spp or
+                      --iterations then fixes the other count from that c. The chosen c is
+                      printed and in --stats; give it as --ratio for a reproducible image.
+                      --resume reuses the saved c
   --no-light-sampling turn light sampling off: emitters are then reached by BSDF sampling (pt)
                       and bundles (rb) only, as in the paper. Light sampling (next-event
                       estimation in PT, a shadow ray per patch in RB) acts in --mode pt and in
                       --mode combined with product weights; --mode rb and --weights paper/none
                       never sample lights. Point and spot lights (KHR_lights_punctual) are
                       reached by light sampling only
+  --light-selection S light sampling: how a light is chosen for a receiving patch: tree (a
+                      BVH over the lights bounding power, position and orientation; nearby,
+                      facing lights are chosen more often) or power (by power alone, the same
+                      for every receiver)                                         [tree]
   --kernels K         specialised (built with only the features the scene and options use:
                       Phong lobe, light sampling) or generic (everything)  [specialised]
   --layers all        also write the unweighted pt_raw and rb_raw layers
@@ -133,20 +149,33 @@ RenderOptions parse_render_options(const std::vector<std::string>& args) {
            throw UsageError(k + ": unknown beta '" + v + "' (available: clamped, balance)");
          o.beta = v;
        }},
+      {"--eye-direct", [&](auto& k, auto& v) {
+         if (v != "shared" && v != "pt") throw UsageError(k + ": expected shared or pt, got '" + v + "'");
+         o.eye_direct = v;
+       }},
       {"--rb-light-rate", [&](auto& k, auto& v) {
          o.light_rate = parse_number<float>(k, v, 1e-6f, 1.0f, "a probability in (0, 1]");
        }},
       {"--ratio", [&](auto& k, auto& v) {
+         if (v == "auto") {
+           o.ratio = -1.0;
+           return;
+         }
          std::string text = v;
          double value;
          if (auto slash = text.find('/'); slash != std::string::npos)  // "1/16"
-           value = parse_number<double>(k, text.substr(0, slash), 0.0, 1e9, "a ratio like 0.25 or 1/4") /
-                   parse_number<double>(k, text.substr(slash + 1), 1e-9, 1e9, "a ratio like 0.25 or 1/4");
+           value = parse_number<double>(k, text.substr(0, slash), 0.0, 1e9, "auto or a ratio like 0.25 or 1/4") /
+                   parse_number<double>(k, text.substr(slash + 1), 1e-9, 1e9, "auto or a ratio like 0.25 or 1/4");
          else
-           value = parse_number<double>(k, text, 0.0, 1e9, "a ratio like 0.25 or 1/4");
+           value = parse_number<double>(k, text, 0.0, 1e9, "auto or a ratio like 0.25 or 1/4");
          if (value != 0.0 && (value < 1e-6 || value > 1e6))
            throw UsageError(k + ": expected 0 or a ratio in [1e-6, 1e6], got '" + v + "'");
          o.ratio = value;
+       }},
+      {"--light-selection", [&](auto& k, auto& v) {
+         if (v != "tree" && v != "power")
+           throw UsageError(k + ": unknown light selection '" + v + "' (available: tree, power)");
+         o.light_selection = v;
        }},
       {"--kernels", [&](auto& k, auto& v) {
          if (v != "specialised" && v != "generic")
@@ -220,7 +249,6 @@ RenderOptions parse_render_options(const std::vector<std::string>& args) {
     throw UsageError("give --spp or --iterations, not both: --ratio fixes one from the other");
   if (o.mode == "pt" && !spp_given && o.seconds == 0.0) o.spp = 64;
   if (o.mode == "rb" && !iterations_given && o.seconds == 0.0) o.iterations = 1000;
-  if (o.ratio < 0.0) o.ratio = 0.25;  // the best product-weight ratio measured on cornell-glossy (README)
   if (o.mode == "combined" && o.ratio == 0.0 && spp_given)
     throw UsageError("--ratio 0 runs ray bundles alone, no path-tracer samples: count with --iterations or --time, not --spp");
   if (o.mode == "combined" && !spp_given && !iterations_given && o.seconds == 0.0) {

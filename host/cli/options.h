@@ -30,9 +30,11 @@ struct RenderOptions {
   std::string weights = "product";  // combined: product, paper, none
   std::string beta = "clamped";     // product weights: the per-vertex beta, clamped or balance
   float light_rate = 0.0f;          // combined + light sampling: RB's light-sample rate; 0: default_light_rate
-  double ratio = -1.0;           // combined: PT samples per pixel per RB iteration (0: RB alone); < 0: the default, 1/4
+  std::string eye_direct = "shared";  // combined + light sampling: the eye vertex's direct light, shared or pt
+  double ratio = -1.0;           // combined: PT samples per pixel per RB iteration (0: RB alone); < 0: auto
   bool all_layers = false;       // --layers all: also pt_raw and rb_raw
   bool light_sampling = true;    // --no-light-sampling turns it off (light_sampling_applies says where it acts)
+  std::string light_selection = "tree";  // light sampling's choice of light: tree (per receiving patch) or power
   bool generic_kernels = false;  // --kernels generic: every feature compiled in (for comparison)
   std::string reference_path;    // --reference REF.exr
   std::string contact_sheet_path;
@@ -49,6 +51,9 @@ struct RenderOptions {
 // (--mode pt; --mode combined with product weights). RB alone, the paper's weights and the plain
 // sum keep the paper's two estimators.
 bool light_sampling_applies(const RenderOptions& o);
+
+// --ratio auto (the default of --mode combined): a timed probe before the render picks c.
+inline bool ratio_is_auto(const RenderOptions& o) { return o.mode == "combined" && o.ratio < 0.0; }
 
 // Parses the arguments after "render". Throws UsageError.
 RenderOptions parse_render_options(const std::vector<std::string>& args);

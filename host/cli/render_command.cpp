@@ -66,15 +66,31 @@ std::string options_key(const RenderOptions& o, int width, int height, float pat
                     ";mode=" + o.mode + ";size=" + std::to_string(width) + "x" + std::to_string(height) +
                     ";seed=" + std::to_string(o.seed) + ";patch_size=" + std::to_string(patch_size) +
                     ";max_depth=" + std::to_string(o.max_depth) + ";layers=" + (o.all_layers ? "all" : "default") +
-                    ";light_sampling=" + (light_sampling_applies(o) ? "on" : "off") +
+                    ";light_sampling=" + (light_sampling_applies(o) ? "on;light_selection=" + o.light_selection : "off") +
                     ";kernels=" + (o.generic_kernels ? "generic" : "specialised");
   if (o.mode != "pt")
     key += ";bins=" + std::to_string(bins) + ";warmup=" + std::to_string(o.warmup) +
            ";shading=" + (o.gouraud ? "gouraud" : "flat");
   if (shape)
     key += ";weights=" + o.weights + ";beta=" + o.beta + ";light_rate=" + std::to_string(o.light_rate) +
+           ";eye_direct=" + o.eye_direct +
            ";round=" + std::to_string(shape->pt_samples) + "spp+" + std::to_string(shape->rb_iterations) + "it";
   return key;
+}
+
+// The round a checkpoint was saved with (its key's ";round=Nspp+Mit"), for --ratio auto's --resume.
+std::optional<RoundShape> round_of_key(const std::string& key) {
+  const std::string tag = ";round=";
+  const std::size_t at = key.find(tag);
+  if (at == std::string::npos) return std::nullopt;
+  unsigned long long spp = 0, iterations = 0;
+  if (std::sscanf(key.c_str() + at + tag.size(), "%lluspp+%lluit", &spp, &iterations) != 2 || iterations == 0)
+    return std::nullopt;
+  return RoundShape{std::uint32_t(spp), std::uint32_t(iterations)};
+}
+
+std::string ratio_text(const RoundShape& shape) {
+  return shape.rb_iterations == 1 ? std::to_string(shape.pt_samples) : "1/" + std::to_string(shape.rb_iterations);
 }
 
 }  // namespace
@@ -120,7 +136,7 @@ int run_render(const RenderOptions& o) {
   std::optional<RoundShape> shape;
   if (o.mode == "combined") {
     try {
-      shape = round_shape(o.ratio);
+      shape = round_shape(ratio_is_auto(o) ? 0.25 : o.ratio);  // auto: replaced by the probe's choice below
     } catch (const std::invalid_argument& e) {
       throw UsageError(e.what());
     }
@@ -128,18 +144,22 @@ int run_render(const RenderOptions& o) {
   // The weights both passes use; --ratio 0 (no PT samples) runs RB unweighted, w_RB = 1.
   const CombinedWeights weights = shape ? combined_weights(weight_mode_of(o), *shape) : CombinedWeights{};
   const std::uint32_t weight_mode = weights.mode;
-  const float ratio_n2_over_n1 = weights.ratio_n2_over_n1;
+  float ratio_n2_over_n1 = weights.ratio_n2_over_n1;
 
   DeviceContext device(select_device(o.device));
-  DeviceScene device_scene(device, scene, patches, bvh);
+  DeviceScene device_scene(device, scene, patches, bvh,
+                           o.light_selection == "power" ? BP_LIGHT_SELECTION_POWER : BP_LIGHT_SELECTION_TREE);
   const CameraParams camera = pack_camera(scene.camera, width, height);
   const bool light_sampling = light_sampling_applies(o) && device_scene.light_count > 0;
   const float light_rate =
       o.light_rate > 0.0f ? o.light_rate : default_light_rate(patches.patch_count, std::size_t(width) * height);
   const std::string kernel_opts = o.generic_kernels ? "" : kernel_options(features_for(scene, light_sampling));
+  // Both passes or neither: the split is exact only when PT and RB weight the eye vertex alike.
+  const bool eye_direct_shared = light_sampling && o.eye_direct == "shared";
   Accumulator pt_accum(width, height, o.all_layers), rb_accum(width, height, o.all_layers);
 
   std::unique_ptr<PathTracerPass> pt;
+  PathTracerSettings pt_settings;  // for --ratio auto's probe pass
   if (use_pt) {
     PathTracerSettings settings;
     settings.seed = o.seed;
@@ -149,8 +169,10 @@ int run_render(const RenderOptions& o) {
     settings.beta_heuristic = beta_heuristic_of(o);
     settings.rb_light_rate = light_rate;
     settings.light_sampling = light_sampling;
+    settings.eye_direct_shared = eye_direct_shared;
     settings.kernel_options = kernel_opts;
     pt = std::make_unique<PathTracerPass>(device, device_scene, camera, settings, pt_accum);
+    pt_settings = settings;
   }
   std::unique_ptr<RayBundlePass> rb;
   std::optional<BundleGeometry> geometry;
@@ -162,6 +184,7 @@ int run_render(const RenderOptions& o) {
     rb_settings.warmup = o.warmup;
     rb_settings.gouraud = o.gouraud;
     rb_settings.light_sampling = light_sampling;
+    rb_settings.eye_direct_shared = eye_direct_shared;
     rb_settings.kernel_options = kernel_opts;
     rb_settings.weight_mode = weight_mode;
     rb_settings.weight_ratio = ratio_n2_over_n1;
@@ -176,12 +199,39 @@ int run_render(const RenderOptions& o) {
     geometry = build_bundle_geometry(scene, patches);
     rb = std::make_unique<RayBundlePass>(device, device_scene, *geometry, camera, rb_settings, rb_accum);
   }
+  // --ratio auto: the probe picks c (or a resumed render takes the checkpoint's), and both passes
+  // get its weights before the first counted sample.
+  std::optional<RatioProbe> probe;
+  std::optional<Checkpoint> resumed;
+  if (!o.resume_path.empty()) resumed = read_checkpoint(o.resume_path);
+  if (ratio_is_auto(o)) {
+    if (resumed) {
+      if (std::optional<RoundShape> saved = round_of_key(resumed->options)) shape = *saved;
+    } else {
+      // PT is timed on a pass of its own at a smaller size of the same view (passes/combined.h).
+      const ProbeImageSize size = probe_image_size(width, height);
+      Accumulator probe_accum(size.width, size.height, false);
+      PathTracerPass probe_pt(device, device_scene, pack_camera(scene.camera, size.width, size.height), pt_settings,
+                              probe_accum);
+      probe = probe_ratio(probe_pt, std::size_t(width) * height, *rb, rb_accum,
+                          RatioProbeBudget{o.seconds, o.spp, o.iterations});
+      shape = probe->chosen;
+      std::fprintf(stderr,
+                   "bundlepath: --ratio auto: c = %s (PT %.4g s per sample per pixel, RB %.4g s per iteration, PT "
+                   "time share %.2f; probe %.2f s)\n",
+                   ratio_text(*shape).c_str(), probe->pt_seconds_per_spp, probe->rb_seconds_per_iteration,
+                   kAutoRatioPtTimeShare, probe->probe_seconds);
+    }
+    ratio_n2_over_n1 = combined_weights(weight_mode, *shape).ratio_n2_over_n1;
+    pt->set_weight_ratio(ratio_n2_over_n1);
+    rb->set_weight_ratio(ratio_n2_over_n1);
+  }
   // A resumed render starts from the checkpoint's accumulators, ray-bundle state and round count.
   std::uint64_t first_round = 0;
   double earlier_seconds = 0.0;
   const std::string key = options_key(o, width, height, patch_size, rb ? rb_settings.bins : 0, shape);
-  if (!o.resume_path.empty()) {
-    Checkpoint c = read_checkpoint(o.resume_path);
+  if (resumed) {
+    Checkpoint& c = *resumed;
     if (c.options != key)
       throw UsageError("--resume " + o.resume_path + " was saved with other options:\n  saved: " + c.options +
                        "\n  now:   " + key);
@@ -280,7 +330,8 @@ int run_render(const RenderOptions& o) {
     for (const auto& [name, img] : layers.images) {
       ErrorMetrics m = compare_images(img, *reference);
       const std::string key = name.empty() ? "combined" : name;
-      metrics[key] = {{"rel_mse", m.rel_mse}, {"rmse", m.rmse}, {"mean_bias", m.mean_bias}};
+      metrics[key] = {{"rel_mse", m.rel_mse}, {"rmse", m.rmse}, {"mean_bias", m.mean_bias},
+                      {"relative_bias", m.reference_mean != 0.0 ? m.mean_bias / m.reference_mean : 0.0}};
       std::fprintf(stderr, "bundlepath: %-8s vs reference: relMSE %.4g  RMSE %.4g  mean bias %+.4g\n", key.c_str(),
                    m.rel_mse, m.rmse, m.mean_bias);
     }
@@ -322,13 +373,28 @@ int run_render(const RenderOptions& o) {
     stats["light_sampling"] = light_sampling;
     stats["kernel_options"] = kernel_opts;
     stats["lights"] = device_scene.light_count;
+    if (light_sampling) stats["light_selection"] = o.light_selection;
     if (!o.resume_path.empty()) stats["resumed_from_rounds"] = first_round;
     if (!o.checkpoint_path.empty()) stats["checkpoint"] = o.checkpoint_path;
     if (shape) {
       stats["weights"] = o.weights;
       if (weight_mode == BP_WEIGHTS_PRODUCT) stats["beta"] = o.beta;
       if (light_sampling && rb) stats["rb_light_rate"] = light_rate;
+      if (light_sampling && rb) stats["eye_direct"] = o.eye_direct;
       stats["ratio"] = shape->ratio();
+      if (probe)
+        stats["ratio_auto"] = {{"chosen", shape->ratio()},
+                               {"pt_seconds_per_spp", probe->pt_seconds_per_spp},
+                               {"rb_seconds_per_iteration", probe->rb_seconds_per_iteration},
+                               {"pt_time_share", kAutoRatioPtTimeShare},
+                               {"probe_pt_samples", probe->pt_samples},
+                               {"probe_pt_size", std::to_string(probe->pt_image.width) + "x" +
+                                                     std::to_string(probe->pt_image.height)},
+                               {"probe_rb_iterations", probe->rb_iterations},
+                               {"probe_seconds", probe->probe_seconds},
+                               {"probe_first_launch_seconds", probe->first_launch_seconds}};
+      else if (ratio_is_auto(o))
+        stats["ratio_auto"] = {{"chosen", shape->ratio()}, {"from_checkpoint", true}};
       stats["rounds"] = outcome.rounds;
     }
     if (rb) {

@@ -81,8 +81,18 @@ std::vector<T> at_least_one(std::vector<T> v) {
 }  // namespace
 
 DeviceScene::DeviceScene(const DeviceContext& device, const Scene& scene, const PatchLayout& patches,
-                         const FlatBvh& bvh) {
-  const LightList light_list = build_light_list(scene);
+                         const FlatBvh& bvh, std::uint32_t selection) {
+  LightList light_list = build_light_list(scene);
+  light_selection = selection;
+  ray_epsilon = ray_epsilon_for(scene.bounds);
+  std::vector<LightTreeNode> tree_in;
+  std::vector<LightReceiver> receivers_in;
+  if (selection == BP_LIGHT_SELECTION_TREE && !light_list.lights.empty()) {
+    tree_in = build_light_tree(light_list, scene, ray_epsilon);  // also writes each light's trail
+    receivers_in = build_light_receivers(scene, patches, light_list, ray_epsilon);
+  }
+  tree_in = at_least_one(std::move(tree_in));
+  receivers_in = at_least_one(std::move(receivers_in));
   const std::vector<TriangleShading> shading_in = pack_triangle_shading(scene, patches);
   const std::vector<Material> materials_in = pack_materials(scene, light_list);
   const std::vector<Light> lights_in = at_least_one(light_list.lights);
@@ -93,13 +103,15 @@ DeviceScene::DeviceScene(const DeviceContext& device, const Scene& scene, const 
   materials = upload_buffer(device, "materials", materials_in);
   lights = upload_buffer(device, "lights", lights_in);
   light_cdf = upload_buffer(device, "light cdf", cdf_in);
+  light_tree = upload_buffer(device, "light tree", tree_in);
+  light_receivers = upload_buffer(device, "light receivers", receivers_in);
   triangle_count = shading_in.size();
   node_count = bvh.nodes.size();
   light_count = std::uint32_t(light_list.lights.size());
-  ray_epsilon = ray_epsilon_for(scene.bounds);
   bytes = bvh.nodes.size() * sizeof(BvhNode) + bvh.triangles.size() * sizeof(BvhTriangle) +
           shading_in.size() * sizeof(TriangleShading) + materials_in.size() * sizeof(Material) +
-          lights_in.size() * sizeof(Light) + cdf_in.size() * sizeof(float);
+          lights_in.size() * sizeof(Light) + cdf_in.size() * sizeof(float) +
+          tree_in.size() * sizeof(LightTreeNode) + receivers_in.size() * sizeof(LightReceiver);
 }
 
 }  // namespace bp

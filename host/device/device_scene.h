@@ -3,6 +3,7 @@
 #pragma once
 #include "device/device_context.h"
 #include "scene/bvh.h"
+#include "scene/light_tree.h"
 #include "scene/lights.h"
 #include "scene/patches.h"
 #include "scene/scene.h"
@@ -22,11 +23,14 @@ float ray_epsilon_for(const Bounds& bounds);
 struct DeviceScene {
   cl::Buffer nodes, triangles, shading, materials;
   cl::Buffer lights, light_cdf;  // one dummy entry each when the scene has no light to sample
+  cl::Buffer light_tree, light_receivers;  // tree selection only (else one dummy entry each); receivers per patch
+  std::uint32_t light_selection = BP_LIGHT_SELECTION_TREE;  // BP_LIGHT_SELECTION_*, the same for PT and RB
   std::size_t triangle_count = 0, node_count = 0;
   std::uint32_t light_count = 0;
   float ray_epsilon = 0.0f;  // ray_epsilon_for(the scene's bounds)
   std::size_t bytes = 0;  // device memory held
-  DeviceScene(const DeviceContext& device, const Scene& scene, const PatchLayout& patches, const FlatBvh& bvh);
+  DeviceScene(const DeviceContext& device, const Scene& scene, const PatchLayout& patches, const FlatBvh& bvh,
+              std::uint32_t light_selection = BP_LIGHT_SELECTION_TREE);
 };
 
 }  // namespace bp

@@ -26,4 +26,12 @@ BP_CHECK_LAYOUT(EyeHit, 32);
 
 #include "kernels/shared/lights.h"
 BP_CHECK_LAYOUT(Light, 96);
-static_assert(offsetof(Light, axis) == 48 && offsetof(Light, intensity) == 64 && offsetof(Light, cos_inner) == 80);
+static_assert(offsetof(Light, axis) == 48 && offsetof(Light, intensity) == 64 && offsetof(Light, cos_inner) == 80 &&
+              offsetof(Light, tree_trail) == 84);
+
+#include "kernels/shared/light_tree.h"
+BP_CHECK_LAYOUT(LightTreeNode, 64);
+static_assert(offsetof(LightTreeNode, hi) == 16 && offsetof(LightTreeNode, axis) == 32 &&
+              offsetof(LightTreeNode, child) == 48);
+BP_CHECK_LAYOUT(LightReceiver, 32);
+static_assert(offsetof(LightReceiver, normal) == 16 && offsetof(LightReceiver, light) == 28);

@@ -1,6 +1,7 @@
 #include "passes/combined.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <stdexcept>
 
@@ -20,6 +21,99 @@ RoundShape round_shape(double c) {
 CombinedWeights combined_weights(std::uint32_t mode, const RoundShape& shape) {
   if (shape.pt_samples == 0) return CombinedWeights{BP_WEIGHTS_NONE, 1.0f};
   return CombinedWeights{mode, float(1.0 / shape.ratio())};
+}
+
+// A round of N1 PT samples and N2 RB iterations takes N1 t_PT + N2 t_RB; PT's share of it is
+//   f = N1 t_PT / (N1 t_PT + N2 t_RB)   <=>   c = N1 / N2 = f / (1 - f) · t_RB / t_PT.
+// A fixed f rather than a fixed c follows the cost that moves with the scene and the resolution: PT's
+// cost per sample grows with the pixels, an RB iteration's mostly with the patches (DESIGN.md §3).
+// c is snapped to a power of 2 (log-nearest): timing noise of a few percent rarely changes the
+// choice, and an integer or its inverse is what round_shape makes a round of. It is clamped to
+// [1/1024, 64]: past that a round (the unit a --time budget stops at) grows long for a pass that
+// gets little of the time anyway.
+RoundShape auto_ratio_shape(double pt_seconds_per_spp, double rb_seconds_per_iteration) {
+  const double f = kAutoRatioPtTimeShare;
+  const double t_pt = std::max(pt_seconds_per_spp, 1e-9), t_rb = std::max(rb_seconds_per_iteration, 1e-9);
+  const double c = f / (1.0 - f) * t_rb / t_pt;
+  const int log2_c = std::clamp(int(std::lround(std::log2(c))), -10, 6);
+  return round_shape(std::ldexp(1.0, log2_c));
+}
+
+namespace {
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+// Runs `step(first, count)` in batches that double (capped at max_batch) until `seconds` of timed
+// work are done (at least one step), adding the time and the count to *timed_seconds / *timed_count.
+template <class Step>
+void time_until(double seconds, std::uint32_t max_batch, std::uint64_t first, Step step, double* timed_seconds,
+                std::uint64_t* timed_count) {
+  std::uint32_t batch = 1;
+  while (*timed_count == 0 || *timed_seconds < seconds) {
+    const auto t = std::chrono::steady_clock::now();
+    step(first + *timed_count, batch);
+    *timed_seconds += seconds_since(t);
+    *timed_count += batch;
+    const double per = *timed_seconds / double(*timed_count);
+    const double left = (seconds - *timed_seconds) / per;  // what still fits, in steps
+    if (left < 1.0) break;
+    batch = std::uint32_t(std::clamp<double>(std::min(2.0 * batch, std::ceil(left)), 1.0, double(max_batch)));
+  }
+}
+}  // namespace
+
+ProbeImageSize probe_image_size(int width, int height) {
+  const double pixels = double(width) * height;
+  if (pixels <= double(kAutoRatioProbePixels)) return ProbeImageSize{width, height};
+  const double scale = std::sqrt(double(kAutoRatioProbePixels) / pixels);
+  return ProbeImageSize{std::max(1, int(std::lround(width * scale))), std::max(1, int(std::lround(height * scale)))};
+}
+
+RatioProbe probe_ratio(PathTracerPass& probe_pt, std::size_t pixels, RayBundlePass& rb, Accumulator& rb_accum,
+                       const RatioProbeBudget& budget) {
+  const auto start = std::chrono::steady_clock::now();
+  const Accumulator rb_before = rb_accum;
+  const RayBundlePass::State rb_before_state = rb.save_state();
+  // The probe times RB iterations with their eye estimate, not the warm-up: marked as warmed up.
+  rb.load_state(RayBundlePass::State{rb_before_state.e_in, 0, true});
+  // Untimed: the first launch of each kernel builds its work-group code on some devices (PoCL, seconds
+  // on a cold cache). PT's is a launch of 0 samples per pixel (no path traced); RB's a whole iteration.
+  probe_pt.run(0, 0);
+  rb.run(0, 1);
+  const double first_launch_seconds = seconds_since(start);
+  double pt_seconds = 0.0, rb_seconds = 0.0;
+  std::uint64_t pt_count = 0, rb_count = 0;
+  const auto pt_step = [&](std::uint64_t f, std::uint32_t n) { probe_pt.run(f, n); };
+  const auto rb_step = [&](std::uint64_t f, std::uint32_t n) { rb.run(f, n); };
+  time_until(0.0, 1, 0, pt_step, &pt_seconds, &pt_count);
+  time_until(0.0, 1, 1, rb_step, &rb_seconds, &rb_count);
+  const double pt_scale = double(pixels) / (double(probe_pt.pixel_width()) * probe_pt.pixel_height());
+  // The probe's size: a share of the render's time, estimated from these two when only a count is given.
+  double render_seconds = budget.seconds > 0.0 ? budget.seconds : 1e30;
+  if (budget.spp || budget.iterations) {
+    const RoundShape first_guess = auto_ratio_shape(pt_seconds * pt_scale, rb_seconds);
+    const double rounds = budget.spp ? std::ceil(double(budget.spp) / first_guess.pt_samples)
+                                     : std::ceil(double(budget.iterations) / first_guess.rb_iterations);
+    render_seconds = std::min(render_seconds, rounds * (first_guess.pt_samples * pt_seconds * pt_scale +
+                                                        first_guess.rb_iterations * rb_seconds));
+  }
+  const double probe_seconds = std::min(kAutoRatioProbeCapSeconds, kAutoRatioProbeShare * render_seconds);
+  time_until(probe_seconds / 2, probe_pt.max_batch(), 0, pt_step, &pt_seconds, &pt_count);
+  time_until(probe_seconds / 2, rb.max_batch(), 1, rb_step, &rb_seconds, &rb_count);
+  rb_accum = rb_before;
+  rb.load_state(rb_before_state);
+
+  RatioProbe probe;
+  probe.pt_seconds_per_spp = pt_seconds / double(pt_count) * pt_scale;
+  probe.rb_seconds_per_iteration = rb_seconds / double(rb_count);
+  probe.pt_samples = std::uint32_t(pt_count);
+  probe.rb_iterations = std::uint32_t(rb_count);
+  probe.pt_image = ProbeImageSize{int(probe_pt.pixel_width()), int(probe_pt.pixel_height())};
+  probe.chosen = auto_ratio_shape(probe.pt_seconds_per_spp, probe.rb_seconds_per_iteration);
+  probe.probe_seconds = seconds_since(start);
+  probe.first_launch_seconds = first_launch_seconds;
+  return probe;
 }
 
 namespace {

@@ -30,6 +30,56 @@ struct CombinedWeights {
 };
 CombinedWeights combined_weights(std::uint32_t mode, const RoundShape& shape);
 
+// --ratio auto (DESIGN.md §3, "The ratio c"): the share of the render time PT gets. To be set from the
+// ratio sweep (bench/ratio.sh prints the share that would have picked each scene's best ratio); 0.3
+// is the first guess. `render --help` (cli/options.cpp) quotes these three constants.
+constexpr double kAutoRatioPtTimeShare = 0.3;
+// The probe's timed work: this share of the render's time (--time, or the time --spp / --iterations
+// would take, estimated from one sample and one iteration), at most kAutoRatioProbeCapSeconds.
+constexpr double kAutoRatioProbeShare = 0.02;
+constexpr double kAutoRatioProbeCapSeconds = 1.5;
+
+// The round --ratio auto renders with, from the measured costs: seconds per PT sample per pixel
+// (whole image) and per RB iteration (eye estimate included). See combined.cpp for the derivation.
+RoundShape auto_ratio_shape(double pt_seconds_per_spp, double rb_seconds_per_iteration);
+
+// PT's probe image: the render's view at about kAutoRatioProbePixels pixels (its own size if
+// smaller), same aspect. A PT sample's cost per pixel has the same distribution over the view at any
+// resolution, so t_PT = (the probe image's time per sample) · pixels / probe pixels, at a fraction of
+// a full-size sample's cost (a 1280x720 sample of the rooms takes about a second).
+constexpr std::size_t kAutoRatioProbePixels = 128 * 128;
+struct ProbeImageSize {
+  int width = 1, height = 1;
+};
+ProbeImageSize probe_image_size(int width, int height);
+
+// What the probe measured and chose.
+struct RatioProbe {
+  RoundShape chosen;
+  double pt_seconds_per_spp = 0.0;
+  double rb_seconds_per_iteration = 0.0;
+  std::uint32_t pt_samples = 0, rb_iterations = 0;  // the timed ones (plus one untimed RB iteration)
+  ProbeImageSize pt_image;                          // where the PT samples were taken
+  double probe_seconds = 0.0;                       // wall time of the whole probe
+  double first_launch_seconds = 0.0;                // of which the untimed first launches
+};
+
+// What the render will do, for the probe's size: seconds (0: none) and a round target in PT samples
+// per pixel or RB iterations (0: none).
+struct RatioProbeBudget {
+  double seconds = 0.0;
+  std::uint64_t spp = 0, iterations = 0;
+};
+
+// Times PT on `probe_pt` (a pass of its own, at probe_image_size, with the render's settings) and RB
+// on the render's own pass (after an untimed PT launch of 0 samples and RB iteration, which pay the
+// first launches; then at least one timed PT sample and RB iteration) and picks the round with
+// auto_ratio_shape. `pixels` is the render's. Nothing stays in the render's passes: the ray-bundle
+// accumulator and state (warm-up not done) are put back as they were, so the render that follows is
+// the one a fixed --ratio of the chosen c gives, bit for bit. The weights are the caller's to set.
+RatioProbe probe_ratio(PathTracerPass& probe_pt, std::size_t pixels, RayBundlePass& rb, Accumulator& rb_accum,
+                       const RatioProbeBudget& budget);
+
 class CombinedPass : public ProgressivePass {
  public:
   CombinedPass(PathTracerPass& pt, RayBundlePass& rb, RoundShape shape) : pt_(pt), rb_(rb), shape_(shape) {}

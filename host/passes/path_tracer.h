@@ -18,6 +18,7 @@ struct PathTracerSettings {
   std::uint32_t beta_heuristic = BP_BETA_CLAMPED;  // product weights' per-vertex beta (BP_BETA_*)
   float rb_light_rate = 1.0f;                 // the ray bundles' light-sample rate, for the weights
   bool light_sampling = true;                 // next-event estimation (DESIGN.md §3), where the scene has lights
+  bool eye_direct_shared = false;             // combined: the eye vertex's direct light split with RB
   std::string kernel_options;                 // feature switches (device/kernel_features.h); empty: generic
 };
 
@@ -34,6 +35,10 @@ class PathTracerPass : public ProgressivePass {
 
   const BuiltProgram& program() const override { return program_; }
   const Launcher& launcher() const override { return launcher_; }
+  // N2 / N1 of the weights from the next sample on (--ratio auto sets it once, after its probe).
+  void set_weight_ratio(float n2_over_n1) { params_.weight_ratio = n2_over_n1; }
+  std::uint32_t pixel_width() const { return camera_.width; }
+  std::uint32_t pixel_height() const { return camera_.height; }
 
  private:
   const DeviceContext& device_;

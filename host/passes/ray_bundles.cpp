@@ -62,17 +62,22 @@ namespace {
 bool samples_lights(const RayBundleSettings& settings) {
   return settings.weight_mode == BP_WEIGHTS_PRODUCT && settings.light_sampling;
 }
+bool shares_eye_direct(const RayBundleSettings& settings) {
+  return samples_lights(settings) && settings.eye_direct_shared;
+}
 }  // namespace
 
 std::uint32_t bundle_chains(const RayBundleSettings& settings) {
   const bool product = settings.weight_mode == BP_WEIGHTS_PRODUCT;
-  return 1u + (samples_lights(settings) ? 1u : 0u) + (product && settings.keep_raw ? 1u : 0u);
+  return 1u + (samples_lights(settings) ? 1u : 0u) + (shares_eye_direct(settings) ? 1u : 0u) +
+         (product && settings.keep_raw ? 1u : 0u);
 }
 
 std::size_t estimate_bundle_memory(const BundleSize& size, std::uint32_t bins, std::size_t pixels, std::uint32_t chains) {
   std::size_t tiles_per_side = bundle_tiles_per_side(bins + 1), tiles = tiles_per_side * tiles_per_side + 1;
   return slot_estimate(size, bins) * kSlotBytes + tiled_capacity(size, bins, chains) * tiled_fragment_bytes(chains) +
          tiles * 2 * sizeof(cl_uint) + size.patches * (4 * sizeof(cl_uint) + 2 * chains * sizeof(cl_float4)) +
+         size.patches * 5 * sizeof(cl_float4) +  // the eye vertex's light samples and their Gouraud vertices (at most)
          size.elements * (sizeof(BundleElement) + 2 * sizeof(cl_uint)) +
          size.patches * 3 * (sizeof(cl_uint) + chains * sizeof(cl_float4)) +  // Gouraud vertices (at most 3 per patch)
          pixels * (sizeof(EyeHit) + 2 * sizeof(cl_float4));
@@ -128,10 +133,14 @@ RayBundlePass::RayBundlePass(const DeviceContext& device, const DeviceScene& sce
   patch_vertices_ = upload_buffer(device, "patch vertices", geometry.patch_vertices);
   vertex_patch_start_ = upload_buffer(device, "vertex patch offsets", geometry.vertex_patch_start);
   vertex_patches_ = upload_buffer(device, "vertex patches", geometry.vertex_patches);
-  e_vertex_ = make_buffer(device, "vertex irradiance", CL_MEM_READ_WRITE, vertex_count_ * chains_ * sizeof(cl_float4));
+  // Per vertex: every chain, and with --eye-direct shared the eye's light samples (rb_vertex).
+  const std::size_t vertex_slots = chains_ + (shares_eye_direct(settings) ? 1 : 0);
+  e_vertex_ = make_buffer(device, "vertex irradiance", CL_MEM_READ_WRITE, vertex_count_ * vertex_slots * sizeof(cl_float4));
   e_in_ = make_buffer(device, "patch irradiance", CL_MEM_READ_WRITE, patch_count_ * chains_ * sizeof(cl_float4));
   l_out_ =
       make_buffer(device, "patch outgoing radiance", CL_MEM_READ_WRITE, patch_count_ * chains_ * sizeof(cl_float4));
+  eye_light_ = make_buffer(device, "eye-vertex light samples", CL_MEM_READ_WRITE,
+                           (shares_eye_direct(settings) ? patch_count_ : 1) * 2 * sizeof(cl_float4));
   // Each element rasterizes into slots of its own, as many as it can ever cover.
   const float bin_size = 2.0f * radius_ / float(bins_);
   std::vector<cl_uint> slot_start(element_count_ + 1, 0u);
@@ -217,6 +226,7 @@ BundleIteration RayBundlePass::iteration_params(std::uint64_t iteration) const {
   it.eye_outputs = eye_outputs_;
   it.light_count = samples_lights(settings_) ? scene_.light_count : 0u;
   it.direct_chain = samples_lights(settings_) ? 1u : 0u;
+  it.eye_direct_chain = shares_eye_direct(settings_) ? 2u : 0u;
   return it;
 }
 
@@ -225,7 +235,8 @@ void RayBundlePass::iterate(std::uint64_t iteration) {
   const cl_uint patches = as_uint(patch_count_), elements = as_uint(element_count_);
   set_args(outgoing_, elements_, patch_element_, scene_.materials, e_in_, it, patches, l_out_, scene_.nodes,
            scene_.triangles, scene_.lights, scene_.light_cdf, cl_uint(settings_.seed ^ kLightSeedSalt),
-           cl_uint(iteration), scene_.ray_epsilon);
+           cl_uint(iteration), scene_.ray_epsilon, eye_light_, scene_.light_tree, scene_.light_receivers,
+           cl_uint(scene_.light_selection));
   launcher_.launch("rb_outgoing", outgoing_, patch_count_, 64);
 
   set_args(emit_, elements_, it, elements, slot_start_, fragment_counts_, fragment_key_, fragment_depth_, tile_counts_);
@@ -240,7 +251,8 @@ void RayBundlePass::iterate(std::uint64_t iteration) {
            tile_counts_, tiled_at_, tiled_local_, tiled_depth_, tiled_element_);
   launcher_.launch("rb_tile_scatter", tile_scatter_, element_count_, 64);
   set_args(tile_resolve_, elements_, scene_.materials, tile_start_, tiled_local_, tiled_depth_, tiled_element_,
-           tile_order_, l_out_, it, as_uint(tile_count_), received_minus_, received_plus_, fragment_total_);
+           tile_order_, l_out_, it, as_uint(tile_count_), received_minus_, received_plus_, fragment_total_,
+           scene_.lights, scene_.light_cdf, scene_.light_tree, scene_.light_receivers, cl_uint(scene_.light_selection));
   launcher_.launch("rb_tile_resolve", tile_resolve_, tile_count_, 8);
 
   set_args(gather_, elements_, slot_start_, fragment_counts_, tiled_at_, received_minus_, received_plus_, it, elements,
@@ -265,11 +277,11 @@ BatchCounts RayBundlePass::run(std::uint64_t first, std::uint32_t count) {
     const BundleIteration it = iteration_params(iteration);
     if (settings_.gouraud) {
       set_args(vertex_, vertex_patch_start_, vertex_patches_, elements_, patch_element_, e_in_, it,
-               as_uint(vertex_count_), e_vertex_);
+               as_uint(vertex_count_), e_vertex_, eye_light_);
       launcher_.launch("rb_vertex", vertex_, vertex_count_, 64);
     }
     set_args(eye_, eye_hits_buffer_, elements_, patch_element_, scene_.materials, e_in_, patch_vertices_, e_vertex_,
-             cl_uint(settings_.gouraud ? 1 : 0), it, as_uint(pixel_count_), pixel_sum_);
+             cl_uint(settings_.gouraud ? 1 : 0), it, as_uint(pixel_count_), pixel_sum_, eye_light_);
     launcher_.launch("rb_eye", eye_, pixel_count_, 64);
     // The device sums the eye estimates in float: move them to the host's double sums after every
     // max_batch() iterations (on multiples of it, wherever a batch starts) and at the batch's end, so

@@ -31,6 +31,8 @@ struct RayBundleSettings {
   bool keep_raw = false;              // also the unweighted image (rb_raw)
   bool light_sampling = false;        // per-patch light samples and per-fragment weighted direct light
                                       // (DESIGN.md §3); product weights only, where the scene has lights
+  bool eye_direct_shared = false;     // with light sampling: the eye vertex's direct light split with PT
+                                      // (--eye-direct shared; a chain and a light-sample buffer more)
   std::string kernel_options;         // feature switches (device/kernel_features.h); empty: generic
   std::size_t static_tiled_bytes = kStaticTiledBytes;
 };
@@ -73,6 +75,8 @@ class RayBundlePass : public ProgressivePass {
   const Launcher& launcher() const override { return launcher_; }
   const BuiltProgram& program() const override { return program_; }
   std::uint32_t bins() const { return bins_; }
+  // N2 / N1 of the weights from the next iteration on (--ratio auto sets it once, after its probe).
+  void set_weight_ratio(float n2_over_n1) { settings_.weight_ratio = n2_over_n1; }
   std::uint32_t pixel_width() const { return camera_.width; }
   std::uint32_t pixel_height() const { return camera_.height; }
 
@@ -118,6 +122,7 @@ class RayBundlePass : public ProgressivePass {
   DeviceScan scan_;
   cl::Kernel outgoing_, emit_, tile_scatter_, tile_resolve_, gather_, eye_hits_, vertex_, eye_;
   cl::Buffer elements_, patch_element_, e_in_, l_out_;
+  cl::Buffer eye_light_;  // per patch: its light sample weighted for the eye vertex, and its direction
   // Fragments in per-element slots (slot_start: raster_fragment_bound of them per element).
   cl::Buffer slot_start_, fragment_counts_, fragment_key_, fragment_depth_, tiled_at_, fragment_total_;
   std::size_t slot_count_ = 0;

@@ -24,8 +24,11 @@ LightList build_light_list(const Scene& scene) {
     const SceneMaterial& mat = scene.materials[m];
     exitance[m] = M_PI * double(mean(mat.emission)) * (mat.double_sided ? 2.0 : 1.0);
   }
-  for (const SceneTriangle& t : scene.triangles) {
+  out.light_of_triangle.assign(scene.triangles.size(), BP_NO_LIGHT);
+  for (std::size_t i = 0; i < scene.triangles.size(); ++i) {
+    const SceneTriangle& t = scene.triangles[i];
     if (!(exitance[t.material] > 0.0)) continue;
+    out.light_of_triangle[i] = std::uint32_t(out.lights.size());
     const glm::vec3 e1 = t.p[1] - t.p[0], e2 = t.p[2] - t.p[0], c = glm::cross(e1, e2);
     Light l{};
     l.type = BP_LIGHT_TRIANGLE;
@@ -59,7 +62,11 @@ LightList build_light_list(const Scene& scene) {
     power.push_back(light_power);
   }
   for (double w : power) out.total_power += w;
-  if (!(out.total_power > 0.0) || !std::isfinite(out.total_power)) return LightList{};
+  if (!(out.total_power > 0.0) || !std::isfinite(out.total_power)) {
+    LightList none;
+    none.light_of_triangle.assign(scene.triangles.size(), BP_NO_LIGHT);
+    return none;
+  }
   double running = 0.0;
   for (std::size_t i = 0; i < out.lights.size(); ++i) {
     out.lights[i].select_probability = float(power[i] / out.total_power);

@@ -1,4 +1,4 @@
-// The lights that light sampling chooses from (kernels/shared/lights.h), selected by power.
+// The lights that light sampling chooses from (kernels/shared/lights.h), with their power.
 #pragma once
 #include "kernels/shared/lights.h"
 #include "scene/scene.h"
@@ -10,6 +10,7 @@ struct LightList {
   std::vector<Light> lights;              // emissive triangles (scene order), then punctual lights
   std::vector<float> cdf;                 // cdf[i] = P(select one of lights 0..i); the last is 1
   std::vector<float> material_pdf_area;   // per scene material: P(select) / area of its emitters, m^-2
+  std::vector<std::uint32_t> light_of_triangle;  // per scene triangle: its light, BP_NO_LIGHT if it emits nothing
   double total_power = 0.0;               // W, summed over the colour channels' mean
 };
 

@@ -54,12 +54,16 @@ typedef struct {
   bp_u32 direct_chain;    // the chain of light straight from emitters (light sampling), 0: none
   bp_u32 beta_heuristic;  // BP_BETA_*: the per-vertex beta of product weights (kernels/shared/weights.h)
   float light_rate;       // probability that a patch traces its light sample in an iteration (in (0, 1])
-  bp_u32 pad[2];
+  bp_u32 eye_direct_chain;  // the chain of direct light weighted for the eye vertex (--eye-direct shared), 0: none
+  bp_u32 pad;
 } BundleIteration;
 
 // Chains per patch and fragment: chain 0 is the weighted one. With light sampling (product weights)
 // chain direct_chain = 1 holds the light that arrives straight from emitters, weighted per fragment
 // as the RB bundle technique of the last segment (DESIGN.md §3), and chain 0 then holds the rest.
+// With --eye-direct shared, chain eye_direct_chain = 2 holds the same light weighted for the eye
+// vertex (eye_segment_weights), which the eye estimate adds; the patches' light samples for the eye
+// go to a buffer of their own (their direction differs per patch).
 // The unweighted chain of --weights product (the rb_raw layer), when kept, is the last one. In the
 // paper's mode chain 0 is unweighted and its .w carries ln of the paper's P (eq. 10) of the radiance.
 

@@ -1,14 +1,19 @@
 // Light sampling (DESIGN.md §3, "Light sampling as a strategy"): the scene's lights -- emissive
-// triangles and KHR_lights_punctual point and spot lights -- chosen by power, and the density of
-// the direction a light sample takes, in the uv measure (eq. 7) like every other density.
+// triangles and KHR_lights_punctual point and spot lights -- chosen for the receiving patch by the
+// light tree (light_tree.h) or by power alone, and the density of the direction a light sample
+// takes, in the uv measure (eq. 7) like every other density.
 #ifndef BP_SHARED_LIGHTS_H
 #define BP_SHARED_LIGHTS_H
 #include "shared/compat.h"
 #include "shared/types.h"
+#include "shared/light_tree.h"
 
 #define BP_LIGHT_TRIANGLE 0u
 #define BP_LIGHT_POINT 1u
 #define BP_LIGHT_SPOT 2u
+
+#define BP_LIGHT_SELECTION_TREE 0u   // by the light tree, for the receiving patch (--light-selection tree)
+#define BP_LIGHT_SELECTION_POWER 1u  // by power alone, the same for every receiver
 
 // One light. host/scene/lights.cpp builds the list and the selection cdf; shared_types_check.cpp
 // checks the layout.
@@ -20,11 +25,12 @@ typedef struct {
   float edge2[3];        // triangle: p2 - p0
   float area;            // triangle: area, m^2
   float axis[3];         // triangle: unit front normal; spot: unit direction of the cone
-  float select_probability;
+  float select_probability;  // by power
   float intensity[3];    // point, spot: radiant intensity I per colour, W sr^-1 (glTF: candela)
   float cos_outer;       // spot: cos of the outer cone angle (no light beyond)
   float cos_inner;       // spot: cos of the inner cone angle (full intensity within)
-  float pad0, pad1, pad2;
+  bp_u32 tree_trail[2];  // its leaf's path from the light tree's root: bit k set = second child at depth k
+  bp_u32 tree_depth;     // the leaf's depth (0: the only light)
 } Light;
 
 // A light sample as seen from a shading point x.
@@ -61,11 +67,64 @@ BP_FN float spot_attenuation(float cos_axis, float cos_outer, float cos_inner) {
   return t * t;
 }
 
-// Samples a light by power (u_pick) and a point on it (u1, u2) as seen from x.
-BP_FN LightSample light_sample(BP_GLOBAL const Light* lights, BP_GLOBAL const float* cdf, bp_u32 count,
-                               BP_GLOBAL const Material* materials, float3 x, float u_pick, float u1, float u2) {
+// Everything light selection reads: the lights, the power cdf, the light tree and the receiving
+// patches; PT and RB see the same buffers, so they evaluate the same probabilities.
+typedef struct {
+  BP_GLOBAL const Light* lights;
+  BP_GLOBAL const float* cdf;
+  BP_GLOBAL const LightTreeNode* tree;
+  BP_GLOBAL const LightReceiver* receivers;  // per patch
+  bp_u32 count;
+  bp_u32 selection;  // BP_LIGHT_SELECTION_*
+} LightSet;
+
+BP_FN LightSet light_set(BP_GLOBAL const Light* lights, BP_GLOBAL const float* cdf, BP_GLOBAL const LightTreeNode* tree,
+                         BP_GLOBAL const LightReceiver* receivers, bp_u32 count, bp_u32 selection) {
+  LightSet s;
+  s.lights = lights;
+  s.cdf = cdf;
+  s.tree = tree;
+  s.receivers = receivers;
+  s.count = count;
+  s.selection = selection;
+  return s;
+}
+
+// A light for the receiving patch, and its selection probability.
+BP_FN LightPick light_select(const LightSet* set, bp_u32 receiver_patch, float u) {
+  if (set->selection == BP_LIGHT_SELECTION_TREE) return light_tree_select(set->tree, &set->receivers[receiver_patch], u);
+  LightPick pick;
+  pick.light = light_pick(set->cdf, set->count, u);
+  pick.probability = set->lights[pick.light].select_probability;
+  return pick;
+}
+
+// P(light_select picks `light` | the receiving patch): the same number the pick carried.
+BP_FN float light_select_probability(const LightSet* set, bp_u32 receiver_patch, bp_u32 light) {
+  BP_GLOBAL const Light* l = &set->lights[light];
+  if (set->selection != BP_LIGHT_SELECTION_TREE) return l->select_probability;
+  return light_tree_probability(set->tree, &set->receivers[receiver_patch], l->tree_trail[0], l->tree_trail[1],
+                                l->tree_depth);
+}
+
+// Light sampling's area density on the emitter that patch emitter_patch is part of, as seen from
+// the receiving patch (for the weights of an emitter reached otherwise: PT's BSDF sample, RB's
+// bundle): P(select) / area. By power: the material's, as before the tree.
+BP_FN float light_pdf_area_from(const LightSet* set, BP_GLOBAL const Material* materials, bp_u32 receiver_patch,
+                                bp_u32 emitter_patch, bp_u32 emitter_material) {
+  if (set->selection != BP_LIGHT_SELECTION_TREE) return materials[emitter_material].light_pdf_area;
+  bp_u32 light = set->receivers[emitter_patch].light;
+  if (light == BP_NO_LIGHT || !(set->lights[light].area > 0.0f)) return 0.0f;
+  return light_select_probability(set, receiver_patch, light) / set->lights[light].area;
+}
+
+// Samples a light for the receiving patch (u_pick) and a point on it (u1, u2) as seen from x, a
+// point of that patch.
+BP_FN LightSample light_sample(const LightSet* set, BP_GLOBAL const Material* materials, bp_u32 receiver_patch,
+                               float3 x, float u_pick, float u1, float u2) {
   LightSample s;
-  BP_GLOBAL const Light* l = &lights[light_pick(cdf, count, u_pick)];
+  LightPick pick = light_select(set, receiver_patch, u_pick);
+  BP_GLOBAL const Light* l = &set->lights[pick.light];
   float3 target = bp_load3(l->position);
   if (l->type == BP_LIGHT_TRIANGLE) {
     float root = sqrt(u1);  // uniform on the triangle: barycentrics (1 - sqrt u1, sqrt u1 (1 - u2), sqrt u1 u2)
@@ -77,18 +136,19 @@ BP_FN LightSample light_sample(BP_GLOBAL const Light* lights, BP_GLOBAL const fl
   s.is_delta = l->type != BP_LIGHT_TRIANGLE;
   s.radiance_over_pdf = make_float3(0.0f, 0.0f, 0.0f);
   s.pdf_uv = 0.0f;
-  if (!(s.distance > 0.0f)) return s;
+  if (!(s.distance > 0.0f) || !(pick.probability > 0.0f)) return s;
   if (l->type == BP_LIGHT_TRIANGLE) {
     BP_GLOBAL const Material* m = &materials[l->material];
     float cos_light = -dot(bp_load3(l->axis), s.wi);  // > 0: x sees the front
     if (m->flags & BP_MATERIAL_DOUBLE_SIDED) cos_light = fabs(cos_light);
-    s.pdf_uv = light_pdf_uv_area(m->light_pdf_area, s.distance, cos_light);
+    float pdf_area = set->selection == BP_LIGHT_SELECTION_TREE ? pick.probability / l->area : m->light_pdf_area;
+    s.pdf_uv = light_pdf_uv_area(pdf_area, s.distance, cos_light);
     if (s.pdf_uv > 0.0f) s.radiance_over_pdf = bp_load3(m->emission) * (BP_TWO_PI / s.pdf_uv);  // L / p_solid
   } else {
     // E = I / d^2 from the light's direction: L / p_solid is I / (d^2 P(select)).
     float falloff = 1.0f;
     if (l->type == BP_LIGHT_SPOT) falloff = spot_attenuation(dot(bp_load3(l->axis), -s.wi), l->cos_outer, l->cos_inner);
-    s.radiance_over_pdf = bp_load3(l->intensity) * (falloff / (s.distance * s.distance * l->select_probability));
+    s.radiance_over_pdf = bp_load3(l->intensity) * (falloff / (s.distance * s.distance * pick.probability));
   }
   return s;
 }

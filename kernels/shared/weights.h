@@ -55,8 +55,14 @@ typedef struct {
   float rb_bundle, rb_light, pt_bsdf, pt_light;
 } LastSegmentWeights;
 
-BP_FN LastSegmentWeights last_segment_weights(float prefix_beta, float ratio_n2_over_n1, float rb_light_rate,
-                                              float pdf_bsdf_uv, float pdf_light_uv, int is_delta) {
+// The four-technique split with RB's share R computed from pdf_bsdf_share in the place of PT's BSDF
+// density, and PT's own share 1 - R split between its two techniques by its true density
+// pdf_bsdf_pt (the balance heuristic). The four weights sum to one for any pdf_bsdf_share, so a
+// density RB can evaluate without the view direction may stand in for PT's there (the eye vertex,
+// DESIGN.md §3 "Sharing the eye vertex's direct light with RB").
+BP_FN LastSegmentWeights last_segment_split(float prefix_beta, float ratio_n2_over_n1, float rb_light_rate,
+                                            float pdf_bsdf_share, float pdf_bsdf_pt, float pdf_light_uv,
+                                            int is_delta) {
   LastSegmentWeights w;
   w.rb_bundle = 0.0f;
   if (is_delta) {
@@ -66,18 +72,50 @@ BP_FN LastSegmentWeights last_segment_weights(float prefix_beta, float ratio_n2_
     w.pt_light = 1.0f - w.rb_light;
     return w;
   }
-  // Every term divided by m = max(1, s p_b, p_L) and by N1, so nothing overflows for sharp lobes
-  // or lights seen at grazing angles.
-  float m = fmax(1.0f, fmax(pdf_bsdf_uv, pdf_light_uv));
-  float bsdf = pdf_bsdf_uv / m, light = pdf_light_uv / m, c = ratio_n2_over_n1;
-  float d = c * (1.0f / m + rb_light_rate * light) + bsdf + light;
+  // Every term of D divided by m = max(1, s p_b, p_L) and by N1, so nothing overflows for sharp
+  // lobes or lights seen at grazing angles.
+  float m = fmax(1.0f, fmax(pdf_bsdf_share, pdf_light_uv));
+  float share = pdf_bsdf_share / m, light = pdf_light_uv / m, c = ratio_n2_over_n1;
+  float d = c * (1.0f / m + rb_light_rate * light) + share + light;
   w.rb_bundle = d > 0.0f ? prefix_beta * (c / m) / d : 0.0f;
   w.rb_light = d > 0.0f ? prefix_beta * (c * rb_light_rate * light) / d : 0.0f;
   float pt_share = fmax(0.0f, 1.0f - (w.rb_bundle + w.rb_light));  // not -1e-8 where RB takes it all
-  float pt_sum = bsdf + light;
+  float mp = fmax(pdf_bsdf_pt, pdf_light_uv);
+  float bsdf = mp > 0.0f ? pdf_bsdf_pt / mp : 0.0f, light_pt = mp > 0.0f ? pdf_light_uv / mp : 0.0f;
+  float pt_sum = bsdf + light_pt;
   w.pt_bsdf = pt_sum > 0.0f ? pt_share * bsdf / pt_sum : 0.5f * pt_share;
-  w.pt_light = pt_sum > 0.0f ? pt_share * light / pt_sum : 0.5f * pt_share;
+  w.pt_light = pt_sum > 0.0f ? pt_share * light_pt / pt_sum : 0.5f * pt_share;
   return w;
+}
+
+// The last segment of a path from vertex x_{n-1} (not the eye vertex), both sides with PT's true
+// s p_b of the direction towards the light given the one x_{n-1} sends to.
+BP_FN LastSegmentWeights last_segment_weights(float prefix_beta, float ratio_n2_over_n1, float rb_light_rate,
+                                              float pdf_bsdf_uv, float pdf_light_uv, int is_delta) {
+  return last_segment_split(prefix_beta, ratio_n2_over_n1, rb_light_rate, pdf_bsdf_uv, pdf_bsdf_uv, pdf_light_uv,
+                            is_delta);
+}
+
+// The view-independent stand-in for PT's s p_b(wi | w_view) at the eye vertex, which RB must evaluate
+// per fragment and per shadow ray before any pixel exists: s (P_d 2 cos theta_in + P_s (n + 1)), the
+// diffuse part of the mixture exactly and the Phong lobe at its peak (its largest density over all
+// views). Exact for Lambert surfaces (DESIGN.md's p~_b); on glossy ones it leans to PT, which samples
+// the lobe that RB's patch-level direct light would blur.
+BP_FN float eye_direct_proxy_pdf_uv(const Bsdf* b, float cos_theta_in) {
+  if (!(cos_theta_in > 0.0f)) return 0.0f;
+  float lobe_peak = BP_FEATURE_PHONG ? (1.0f - b->p_diffuse) * (b->shininess + 1.0f) : 0.0f;
+  return b->continuation * (b->p_diffuse * pdf_uv_cosine(cos_theta_in) + lobe_peak);
+}
+
+// The eye vertex's direct light shared between the four techniques (DESIGN.md §3, "Sharing the eye
+// vertex's direct light with RB"): the empty prefix, RB's share from the proxy density, PT's split
+// by its true one:
+//   D~ = N2 (1 + rho p_L) + N1 (p~_b + p_L),  w_RB,bundle = N2 / D~,  w_RB,light = rho N2 p_L / D~,
+//   w_PT,bsdf = (1 - R) s p_b / (s p_b + p_L),  w_PT,light = (1 - R) p_L / (s p_b + p_L).
+BP_FN LastSegmentWeights eye_segment_weights(float ratio_n2_over_n1, float rb_light_rate, float pdf_proxy_uv,
+                                             float pdf_bsdf_uv, float pdf_light_uv, int is_delta) {
+  return last_segment_split(1.0f, ratio_n2_over_n1, rb_light_rate, pdf_proxy_uv, pdf_bsdf_uv, pdf_light_uv,
+                            is_delta);
 }
 
 #endif  // BP_SHARED_WEIGHTS_H

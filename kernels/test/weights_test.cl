@@ -51,11 +51,14 @@ __kernel void path_weights(__global const Material* materials, __global const fl
 // light-sampling density of that connection (uv), is_delta[path] marks a point or spot light.
 // out[4 * path ..] = w_PT,bsdf, w_PT,light (as pathtrace.cl computes them), w_RB,bundle, w_RB,light
 // (as bundle.cl does: the last vertex's factor in rb_tile_resolve / rb_light_sample, then beta at
-// every reflection towards the eye, none of it at the eye vertex itself).
+// every reflection towards the eye, none of it at the eye vertex itself). eye_shared: a one-vertex
+// path's direct light is split as --eye-direct shared does (pathtrace.cl: eye_segment_weights with
+// PT's true density; bundle.cl: the same with the proxy only, in rb_direct_received / rb_outgoing).
 __kernel void last_segment_path_weights(__global const Material* materials, __global const float* geometry,
                                         __global const float* pdf_light, __global const uint* is_delta,
                                         const uint vertices, const uint paths, const float ratio,
-                                        const uint heuristic, const float light_rate, __global float* out) {
+                                        const uint heuristic, const float light_rate, const uint eye_shared,
+                                        __global float* out) {
   uint path = (uint)get_global_id(0);
   if (path >= paths) return;
   __global const Material* m = &materials[path * vertices];
@@ -73,7 +76,10 @@ __kernel void last_segment_path_weights(__global const Material* materials, __gl
     path_pdf_multiply_beta(&pdf, vertex_beta(b.continuation, bsdf_pdf_uv(&b, n, wi, wo), ratio, heuristic));
   }
   float prefix = last == 0u ? 0.0f : pdf.beta_product;
+  float proxy = eye_direct_proxy_pdf_uv(&bl, dot(nl, wil));
   LastSegmentWeights pt = last_segment_weights(prefix, ratio, light_rate, pdf_bsdf, pdf_light[path], (int)is_delta[path]);
+  if (last == 0u && eye_shared)
+    pt = eye_segment_weights(ratio, light_rate, proxy, pdf_bsdf, pdf_light[path], (int)is_delta[path]);
 
   // RB: the last vertex's factor, then beta at each reflection towards the eye (rb_outgoing), and at
   // the eye vertex (rb_eye), which takes no direct light at all.
@@ -86,7 +92,12 @@ __kernel void last_segment_path_weights(__global const Material* materials, __gl
     rb_bundle *= beta;
     rb_light *= beta;
   }
-  if (last == 0u) rb_bundle = rb_light = 0.0f;
+  if (last == 0u && !eye_shared) rb_bundle = rb_light = 0.0f;
+  if (last == 0u && eye_shared) {
+    LastSegmentWeights eye = eye_segment_weights(ratio, light_rate, proxy, 0.0f, pdf_light[path], (int)is_delta[path]);
+    rb_bundle = eye.rb_bundle;
+    rb_light = eye.rb_light;
+  }
   out[4 * path + 0] = pt.pt_bsdf;
   out[4 * path + 1] = pt.pt_light;
   out[4 * path + 2] = rb_bundle;

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -25,7 +26,7 @@ void expect_same_image(const std::string& a, const std::string& b) {
 TEST(Checkpoint, StoppedAndResumedEqualsUninterruptedInEveryMode) {
   std::string dir = fresh_dir("checkpoint_modes");
   const std::string common = "render " + kGlossy + "--width 24 --height 18 --layers all ";
-  for (const std::string mode : {"--mode pt --spp", "--mode rb --iterations", "--mode combined --spp"}) {
+  for (const std::string mode : {"--mode pt --spp", "--mode rb --iterations", "--mode combined --ratio 1/4 --spp"}) {
     ASSERT_EQ(run_cli(common + mode + " 24 --out " + dir + "/whole").exit_code, 0) << mode;
     ASSERT_EQ(run_cli(common + mode + " 8 --checkpoint " + dir + "/ck --out " + dir + "/first").exit_code, 0) << mode;
     CliResult r = run_cli(common + mode + " 24 --resume " + dir + "/ck --stats " + dir + "/s.json --out " + dir + "/rest");
@@ -38,7 +39,7 @@ TEST(Checkpoint, StoppedAndResumedEqualsUninterruptedInEveryMode) {
 
 TEST(Checkpoint, CtrlCThenResumeEqualsUninterrupted) {
   std::string dir = fresh_dir("checkpoint_sigint");
-  const std::string render = "'" + std::string(BP_BINARY) + "' render " + kGlossy + "--mode combined --width 96 " +
+  const std::string render = "'" + std::string(BP_BINARY) + "' render " + kGlossy + "--mode combined --ratio 1/4 --width 96 " +
                              "--height 96 --spp 256 ";
   ASSERT_EQ(run_shell(render + "--out " + dir + "/whole").exit_code, 0);
   // Interrupted once it has started, at whatever batch it has reached; the checkpoint is written on the way out.
@@ -52,6 +53,28 @@ TEST(Checkpoint, CtrlCThenResumeEqualsUninterrupted) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   expect_same_image(dir + "/resumed.exr", dir + "/whole.exr");
   for (const auto& e : fs::directory_iterator(dir)) EXPECT_EQ(e.path().string().find(".tmp-"), std::string::npos);
+}
+
+// --ratio auto probes once: the resumed run takes the checkpoint's c (no probe), and the image is the
+// uninterrupted render at that c.
+TEST(Checkpoint, ResumedAutoRatioReusesTheSavedRatio) {
+  std::string dir = fresh_dir("checkpoint_auto_ratio");
+  const std::string common = "render " + kGlossy + "--width 24 --height 18 --mode combined ";
+  CliResult first = run_cli(common + "--ratio auto --spp 8 --checkpoint " + dir + "/ck --stats " + dir + "/first.json --out " +
+                            dir + "/first");
+  ASSERT_EQ(first.exit_code, 0) << first.output;
+  nlohmann::json s1 = nlohmann::json::parse(std::ifstream(dir + "/first.json"));
+  const double chosen = s1["ratio_auto"]["chosen"].get<double>();
+  CliResult rest = run_cli(common + "--ratio auto --spp 64 --resume " + dir + "/ck --stats " + dir + "/rest.json --out " +
+                           dir + "/rest");
+  ASSERT_EQ(rest.exit_code, 0) << rest.output;
+  EXPECT_EQ(rest.output.find("--ratio auto: c ="), std::string::npos) << "a resumed render must not probe again";
+  nlohmann::json s2 = nlohmann::json::parse(std::ifstream(dir + "/rest.json"));
+  EXPECT_EQ(s2["ratio"].get<double>(), chosen);
+  EXPECT_EQ(s2["ratio_auto"]["from_checkpoint"], true);
+  const std::string fixed = chosen >= 1.0 ? std::to_string(std::lround(chosen)) : "1/" + std::to_string(std::lround(1.0 / chosen));
+  ASSERT_EQ(run_cli(common + "--ratio " + fixed + " --spp 64 --out " + dir + "/whole").exit_code, 0);
+  expect_same_image(dir + "/rest.exr", dir + "/whole.exr");
 }
 
 TEST(Checkpoint, OtherOptionsOrABrokenFileAreRefused) {

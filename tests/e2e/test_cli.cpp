@@ -104,7 +104,7 @@ TEST(Cli, PointLightSceneRendersLitAndWarnsWhereLightSamplingIsOff) {
 // The specialised build (only the features the render uses) draws the same image as the generic one.
 TEST(Cli, SpecialisedKernelsDrawTheGenericImage) {
   std::string dir = fresh_dir("kernel_features");
-  for (const char* mode : {"--mode pt --spp 4", "--mode combined --spp 2", "--mode pt --spp 4 --no-light-sampling"}) {
+  for (const char* mode : {"--mode pt --spp 4", "--mode combined --ratio 1/4 --spp 2", "--mode pt --spp 4 --no-light-sampling"}) {
     std::vector<ImageRGB> images;
     for (const char* kernels : {"generic", "specialised"}) {
       CliResult r = run_cli("render " + kScenes + "cornell-box.gltf --width 16 --height 16 " + mode + " --kernels " +
@@ -163,6 +163,46 @@ TEST(Cli, CombinedModeWritesEveryLayerAndReportsAgainstAReference) {
   EXPECT_GT(fs::file_size(dir + "/sheet.png"), 1000u);
 }
 
+// --ratio auto, the default of --mode combined: a probe picks c, reported on stderr and in the stats,
+// and leaves no trace in the image: it is the render of a fixed --ratio at the chosen c, bit for bit.
+TEST(Cli, AutoRatioReportsTheChosenRatioAndDrawsThatRatiosImage) {
+  std::string dir = fresh_dir("auto_ratio");
+  const std::string common = "render " + kScenes + "cornell-box.gltf --mode combined --width 20 --height 20 --layers all ";
+  for (const std::string ratio : {std::string("--ratio auto "), std::string()}) {  // explicit, and the default
+    CliResult r = run_cli(common + ratio + "--spp 4 --out " + dir + "/auto --stats " + dir + "/auto.json");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find("--ratio auto: c ="), std::string::npos) << r.output;
+    nlohmann::json stats = nlohmann::json::parse(std::ifstream(dir + "/auto.json"));
+    ASSERT_TRUE(stats.contains("ratio_auto")) << stats.dump();
+    const double chosen = stats["ratio_auto"]["chosen"].get<double>();
+    EXPECT_EQ(stats["ratio"].get<double>(), chosen);
+    EXPECT_GT(stats["ratio_auto"]["pt_seconds_per_spp"].get<double>(), 0.0);
+    EXPECT_GT(stats["ratio_auto"]["rb_seconds_per_iteration"].get<double>(), 0.0);
+    // Beyond the first launches (which build each kernel's work-group code on PoCL, a cost the render
+    // would pay anyway), --spp 4 on 20x20 pixels buys a probe of a few milliseconds.
+    const nlohmann::json& a = stats["ratio_auto"];
+    EXPECT_LT(a["probe_seconds"].get<double>() - a["probe_first_launch_seconds"].get<double>(), 0.2) << a.dump();
+    // A power of 2; --spp fixes the rounds, the iterations follow from c.
+    EXPECT_EQ(std::exp2(std::round(std::log2(chosen))), chosen);
+    const std::uint64_t rounds = stats["rounds"].get<std::uint64_t>();
+    const std::uint64_t pt_per_round = chosen >= 1 ? std::uint64_t(chosen) : 1, rb_per_round = chosen >= 1 ? 1 : std::uint64_t(1 / chosen);
+    EXPECT_EQ(rounds, (4 + pt_per_round - 1) / pt_per_round);
+    EXPECT_EQ(stats["spp"].get<std::uint64_t>(), rounds * pt_per_round);
+    EXPECT_EQ(stats["iterations"].get<std::uint64_t>(), rounds * rb_per_round);
+    const std::string fixed = chosen >= 1.0 ? std::to_string(pt_per_round) : "1/" + std::to_string(rb_per_round);
+    r = run_cli(common + "--ratio " + fixed + " --spp 4 --out " + dir + "/fixed");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    for (const std::string& layer : exr_layer_names(dir + "/fixed.exr"))
+      EXPECT_EQ(read_exr(dir + "/auto.exr", layer).rgb, read_exr(dir + "/fixed.exr", layer).rgb) << "layer '" << layer << "'";
+  }
+  // --time: the probe is a small share of the budget.
+  CliResult r = run_cli(common + "--time 1 --out " + dir + "/timed --stats " + dir + "/timed.json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  nlohmann::json stats = nlohmann::json::parse(std::ifstream(dir + "/timed.json"));
+  const nlohmann::json& a = stats["ratio_auto"];
+  EXPECT_LT(a["probe_seconds"].get<double>() - a["probe_first_launch_seconds"].get<double>(), 0.2) << a.dump();
+}
+
 TEST(Cli, CombinedModeOptionErrors) {
   std::string dir = fresh_dir("combined_errors");
   struct Case { std::string args, needle; int code; };
@@ -171,6 +211,10 @@ TEST(Cli, CombinedModeOptionErrors) {
       {"--mode combined --ratio -1", "--ratio", 2},
       {"--mode combined --ratio 0 --spp 4", "--ratio 0", 2},  // RB alone: no PT samples to count
       {"--mode combined --ratio 1/0", "--ratio", 2},
+      {"--mode combined --ratio foo", "--ratio", 2},
+      {"--mode combined --ratio -0.5", "--ratio", 2},
+      {"--mode combined --ratio -1/4", "--ratio", 2},
+      {"--mode combined --ratio Auto", "--ratio", 2},
       {"--mode combined --weights heavy", "--weights", 2},
       {"--mode combined --spp 4 --iterations 4", "not both", 2},
       {"--mode combined --layers some", "--layers", 2},

@@ -16,11 +16,11 @@ const DeviceContext& test_device() {
 }
 
 RenderRun render_pt(const Scene& scene, int width, int height, std::uint64_t spp, std::uint32_t seed,
-                    std::uint32_t max_depth, bool light_sampling) {
+                    std::uint32_t max_depth, bool light_sampling, std::uint32_t light_selection) {
   const DeviceContext& device = test_device();
   PatchLayout patches = build_patch_layout(scene, default_patch_size(scene));
   FlatBvh bvh = build_bvh(scene.triangles);
-  DeviceScene device_scene(device, scene, patches, bvh);
+  DeviceScene device_scene(device, scene, patches, bvh, light_selection);
   PathTracerSettings settings;
   settings.seed = seed;
   settings.max_depth = max_depth;
@@ -98,7 +98,7 @@ CombinedRun render_combined(const Scene& scene, int width, int height, const Com
   PatchLayout patches = build_patch_layout(scene, cs.patch_size);
   FlatBvh bvh = build_bvh(scene.triangles);
   BundleGeometry geometry = build_bundle_geometry(scene, patches);
-  DeviceScene device_scene(device, scene, patches, bvh);
+  DeviceScene device_scene(device, scene, patches, bvh, cs.light_selection);
   const CameraParams camera = pack_camera(scene.camera, width, height);
   const RoundShape shape{cs.pt_samples_per_round, cs.rb_iterations_per_round};
   const CombinedWeights weights = combined_weights(cs.weight_mode, shape);  // pt_samples_per_round 0: RB alone
@@ -110,6 +110,7 @@ CombinedRun render_combined(const Scene& scene, int width, int height, const Com
   pts.beta_heuristic = cs.beta_heuristic;
   pts.rb_light_rate = cs.light_rate;
   pts.light_sampling = cs.light_sampling;
+  pts.eye_direct_shared = cs.eye_direct_shared;
   PathTracerPass pt(device, device_scene, camera, pts, pt_accum);
   RayBundleSettings rbs;
   rbs.seed = cs.seed;
@@ -120,6 +121,7 @@ CombinedRun render_combined(const Scene& scene, int width, int height, const Com
   rbs.beta_heuristic = cs.beta_heuristic;
   rbs.light_rate = cs.light_rate;
   rbs.light_sampling = cs.light_sampling;
+  rbs.eye_direct_shared = cs.eye_direct_shared;
   RayBundlePass rb(device, device_scene, geometry, camera, rbs, rb_accum);
   CombinedPass combined(pt, rb, shape);
   std::atomic<bool> never{false};
@@ -153,6 +155,36 @@ Scene make_glossy_light_box() {
   scene.camera.forward = glm::normalize(glm::vec3(0.0f, -0.45f, -1.0f));
   scene.camera.up = glm::normalize(glm::cross(glm::cross(scene.camera.forward, glm::vec3(0, 1, 0)), scene.camera.forward));
   scene.camera.yfov = 1.1f;
+  return scene;
+}
+
+Scene make_multi_light_box() {
+  Scene scene = make_glossy_light_box();
+  SceneMaterial partition = scene.materials[0], wall_light, hanging;
+  partition.double_sided = true;
+  wall_light.kd = hanging.kd = glm::vec3(0.0f);
+  wall_light.emission = glm::vec3(60.0f, 50.0f, 40.0f);  // bright, behind the partition: power and tree differ most
+  hanging.emission = glm::vec3(2.0f, 3.0f, 4.0f);
+  hanging.double_sided = true;
+  const std::uint32_t m = std::uint32_t(scene.materials.size());
+  scene.materials.insert(scene.materials.end(), {partition, wall_light, hanging});
+  const float x = 0.2f, top = 0.3f;
+  scene.triangles.push_back({{{x, -0.5f, -0.5f}, {x, top, -0.5f}, {x, top, 0.5f}}, m});
+  scene.triangles.push_back({{{x, -0.5f, -0.5f}, {x, top, 0.5f}, {x, -0.5f, 0.5f}}, m});
+  const float w = 0.499f;  // on the +x wall, facing -x: counter-clockwise seen from -x
+  scene.triangles.push_back({{{w, -0.1f, -0.1f}, {w, -0.1f, 0.1f}, {w, 0.1f, 0.1f}}, m + 1});
+  scene.triangles.push_back({{{w, -0.1f, -0.1f}, {w, 0.1f, 0.1f}, {w, 0.1f, -0.1f}}, m + 1});
+  scene.triangles.push_back({{{-0.3f, 0.1f, -0.2f}, {-0.2f, 0.1f, -0.25f}, {-0.25f, 0.25f, -0.2f}}, m + 2});
+  ScenePunctualLight point, spot;
+  point.position = glm::vec3(-0.25f, -0.3f, 0.1f);
+  point.intensity = glm::vec3(0.05f, 0.06f, 0.08f);
+  spot.kind = ScenePunctualLight::Kind::spot;
+  spot.position = glm::vec3(-0.1f, 0.35f, -0.3f);
+  spot.direction = glm::normalize(glm::vec3(0.2f, -1.0f, 0.1f));
+  spot.intensity = glm::vec3(0.3f);
+  spot.inner_cone = 0.2f;
+  spot.outer_cone = 0.6f;
+  scene.lights = {point, spot};
   return scene;
 }
 

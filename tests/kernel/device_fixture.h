@@ -22,7 +22,8 @@ struct RenderRun {
 };
 
 RenderRun render_pt(const Scene& scene, int width, int height, std::uint64_t spp, std::uint32_t seed,
-                    std::uint32_t max_depth = 65536, bool light_sampling = true);
+                    std::uint32_t max_depth = 65536, bool light_sampling = true,
+                    std::uint32_t light_selection = BP_LIGHT_SELECTION_TREE);
 
 // Everything a ray-bundle test needs, built from a Scene the way the CLI builds it.
 struct BundleRig {
@@ -64,12 +65,19 @@ struct CombinedSettings {
   bool light_sampling = false;
   std::uint32_t beta_heuristic = BP_BETA_CLAMPED;
   float light_rate = 1.0f;  // RB's light-sample rate (light sampling)
+  bool eye_direct_shared = false;  // light sampling: the eye vertex's direct light split with RB
+  std::uint32_t light_selection = BP_LIGHT_SELECTION_TREE;  // BP_LIGHT_SELECTION_*
 };
 CombinedRun render_combined(const Scene& scene, int width, int height, const CombinedSettings& settings);
 
 // A closed 1 m box seen from inside: glossy floor (kd 0.3, ks 0.5, n 30), grey Lambert walls, and a
 // 0.3 m square light (Le 8) just below the ceiling, facing down.
 Scene make_glossy_light_box();
+
+// The glossy light box divided by a double-sided partition (x = 0.2, up to 0.2 m below the ceiling)
+// and lit by five lights of every kind: the ceiling panel, a panel on the +x wall behind the
+// partition, a small double-sided triangle hanging in the room, a point light and a spot light.
+Scene make_multi_light_box();
 
 // A closed axis-aligned box [-h,h]^3 seen from inside: 12 triangles facing inwards, one material.
 Scene make_closed_box(float half_size, const SceneMaterial& material);

@@ -16,9 +16,12 @@ namespace {
 
 CombinedRun combined_run(const Scene& scene, std::uint32_t mode, std::uint64_t rounds, std::uint32_t seed,
                          bool light_sampling = false, std::uint32_t beta_heuristic = BP_BETA_CLAMPED,
-                         float light_rate = 1.0f, std::uint32_t pt_samples_per_round = 1,
+                         float light_rate = 1.0f, std::uint32_t light_selection = BP_LIGHT_SELECTION_TREE,
+                         bool eye_direct_shared = false, std::uint32_t pt_samples_per_round = 1,
                          std::uint32_t rb_iterations_per_round = 4) {
   CombinedSettings cs;
+  cs.light_selection = light_selection;
+  cs.eye_direct_shared = eye_direct_shared;
   cs.pt_samples_per_round = pt_samples_per_round;
   cs.rb_iterations_per_round = rb_iterations_per_round;
   cs.beta_heuristic = beta_heuristic;
@@ -56,19 +59,38 @@ TEST(Combination, ProductWeightsConvergeToThePathTracedReferenceAndThePlainSumDo
 // the product combination unbiased, for an area light and for a point light (which only the PT and
 // RB light samples reach), with every patch tracing its light sample each iteration and with a
 // quarter of them (the rate large scenes get; the weights count rate x N2 RB light samples).
-void expect_light_sampled_combination_unbiased(const Scene& scene, float light_rate) {
+// Lights chosen by the light tree (the default) or by power; the reference is PT choosing by power.
+// The eye vertex's direct light PT's alone (eye_shared false) or shared with RB (--eye-direct shared).
+void expect_light_sampled_combination_unbiased(const Scene& scene, float light_rate, bool eye_shared,
+                                               std::uint32_t light_selection = BP_LIGHT_SELECTION_TREE) {
   const int runs = 8;
-  Sample reference = independent_runs(runs, [&](std::uint32_t seed) { return render_pt(scene, kSize, kSize, 256, seed).image; });
+  Sample reference = independent_runs(runs, [&](std::uint32_t seed) {
+    return render_pt(scene, kSize, kSize, 256, seed, 65536, true, BP_LIGHT_SELECTION_POWER).image;
+  });
   Sample combined = independent_runs(runs, [&](std::uint32_t seed) {
-    return combined_run(scene, BP_WEIGHTS_PRODUCT, 64, seed + 1, true, BP_BETA_CLAMPED, light_rate).combined;
+    return combined_run(scene, BP_WEIGHTS_PRODUCT, 64, seed + 1, true, BP_BETA_CLAMPED, light_rate, light_selection,
+                        eye_shared)
+        .combined;
   });
   for (const std::string& d : significant_differences(combined, reference, runs))
-    ADD_FAILURE() << "RB light rate " << light_rate << ", " << d;
+    ADD_FAILURE() << "RB light rate " << light_rate << ", selection "
+                  << (light_selection == BP_LIGHT_SELECTION_TREE ? "tree" : "power")
+                  << (eye_shared ? ", eye direct shared, " : ", ") << d;
 }
 
 TEST(Combination, LightSamplingKeepsTheProductWeightsUnbiasedUnderAnAreaLight) {
-  expect_light_sampled_combination_unbiased(make_glossy_light_box(), 1.0f);
-  expect_light_sampled_combination_unbiased(make_glossy_light_box(), 0.25f);
+  expect_light_sampled_combination_unbiased(make_glossy_light_box(), 1.0f, false);
+  expect_light_sampled_combination_unbiased(make_glossy_light_box(), 0.25f, true);
+}
+
+// Five lights of every kind, some behind a partition: with the light tree, p_L differs per receiving
+// patch, and PT and RB must still evaluate the same one (DESIGN.md §3, light selection).
+TEST(Combination, LightSamplingKeepsTheProductWeightsUnbiasedUnderManyLightsChosenByTheTree) {
+  expect_light_sampled_combination_unbiased(make_multi_light_box(), 0.25f, true, BP_LIGHT_SELECTION_TREE);
+}
+
+TEST(Combination, LightSamplingKeepsTheProductWeightsUnbiasedUnderManyLightsChosenByPower) {
+  expect_light_sampled_combination_unbiased(make_multi_light_box(), 0.25f, false, BP_LIGHT_SELECTION_POWER);
 }
 
 TEST(Combination, LightSamplingKeepsTheProductWeightsUnbiasedUnderAPointLight) {
@@ -78,7 +100,7 @@ TEST(Combination, LightSamplingKeepsTheProductWeightsUnbiasedUnderAPointLight) {
   point.position = glm::vec3(0.1f, 0.3f, -0.1f);
   point.intensity = glm::vec3(1.0f, 0.8f, 0.6f);
   scene.lights.push_back(point);
-  expect_light_sampled_combination_unbiased(scene, 0.25f);
+  expect_light_sampled_combination_unbiased(scene, 0.25f, true);
 }
 
 // The same scene with the power to see a 2 % bias (issue #12): the image mean and its quadrants of
@@ -91,6 +113,7 @@ struct GlossyCase {
   bool light_sampling;
   std::uint32_t pt_samples_per_round, rb_iterations_per_round;
   std::uint64_t rounds;
+  bool eye_direct_shared = false;
 };
 
 TEST(Combination, ImageMeanAndQuadrantsMatchThePathTracerWithThePowerToSeeTwoPercent) {
@@ -112,6 +135,7 @@ TEST(Combination, ImageMeanAndQuadrantsMatchThePathTracerWithThePowerToSeeTwoPer
   const std::vector<GlossyCase> cases = {
       {"N2/N1 4, beta clamped, light sampling", BP_BETA_CLAMPED, true, 1, 4, 16},
       {"N2/N1 4, beta balance, light sampling", BP_BETA_BALANCE, true, 1, 4, 16},
+      {"N2/N1 4, beta balance, light sampling, eye shared", BP_BETA_BALANCE, true, 1, 4, 16, true},
       {"N2/N1 1/16, beta clamped", BP_BETA_CLAMPED, false, 16, 1, 8},
       {"N2/N1 1/16, beta balance", BP_BETA_BALANCE, false, 16, 1, 8},
   };
@@ -120,7 +144,8 @@ TEST(Combination, ImageMeanAndQuadrantsMatchThePathTracerWithThePowerToSeeTwoPer
     auto [combined, seconds] = timed([&] {
       return large_region_runs(runs, 9001, [&](std::uint32_t seed) {
         return combined_run(scene, BP_WEIGHTS_PRODUCT, gc.rounds, seed, gc.light_sampling, gc.beta, 1.0f,
-                            gc.pt_samples_per_round, gc.rb_iterations_per_round)
+                            BP_LIGHT_SELECTION_TREE, gc.eye_direct_shared, gc.pt_samples_per_round,
+                            gc.rb_iterations_per_round)
             .combined;
       });
     });

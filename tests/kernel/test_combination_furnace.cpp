@@ -66,22 +66,25 @@ struct FurnaceRatio {
 constexpr FurnaceRatio kRatioSixteenth{"1/16", 16, 1, 4, 4}, kRatioOne{"1", 1, 1, 96, 32}, kRatioSixteen{"16", 1, 16, 12, 6};
 
 // The cases: both betas at N2/N1 = 1/16, 1, 16 (where beta < 1 is common), with light sampling off
-// or on. A new setting is one more loop here: for the shared eye-vertex direct light (DESIGN.md §3),
-// `for (bool shared : {false, true})` around the push_back, setting cs.eye_direct_shared and the name.
+// or on, and with light sampling the eye vertex's direct light PT's alone or shared with RB
+// (--eye-direct shared, DESIGN.md §3). A new setting is one more loop here.
 std::vector<FurnaceCase> combination_cases(bool light_sampling,
                                            const std::vector<FurnaceRatio>& ratios = {kRatioSixteenth, kRatioOne,
                                                                                       kRatioSixteen},
                                            const std::vector<std::uint32_t>& betas = {BP_BETA_CLAMPED,
-                                                                                      BP_BETA_BALANCE}) {
+                                                                                      BP_BETA_BALANCE},
+                                           const std::vector<bool>& eye_direct_shared = {false}) {
   std::vector<FurnaceCase> out;
-  for (std::uint32_t beta : betas)
-    for (const FurnaceRatio& r : ratios) {
-      CombinedSettings cs = shape(r.pt_samples_per_round, r.rb_iterations_per_round,
-                                  light_sampling ? r.rounds_light_sampled : r.rounds, beta, light_sampling);
-      out.push_back({std::string("N2/N1 ") + r.name + ", beta " + (beta == BP_BETA_CLAMPED ? "clamped" : "balance") +
-                         (light_sampling ? ", light sampling" : ""),
-                     cs});
-    }
+  for (bool shared : eye_direct_shared)
+    for (std::uint32_t beta : betas)
+      for (const FurnaceRatio& r : ratios) {
+        CombinedSettings cs = shape(r.pt_samples_per_round, r.rb_iterations_per_round,
+                                    light_sampling ? r.rounds_light_sampled : r.rounds, beta, light_sampling);
+        cs.eye_direct_shared = shared && light_sampling;
+        out.push_back({std::string("N2/N1 ") + r.name + ", beta " + (beta == BP_BETA_CLAMPED ? "clamped" : "balance") +
+                           (light_sampling ? ", light sampling" : "") + (cs.eye_direct_shared ? ", eye shared" : ""),
+                       cs});
+      }
   return out;
 }
 
@@ -128,6 +131,17 @@ TEST(CombinationFurnace, ProductWeightsReturnLeOverOneMinusAlbedo) {
 
 TEST(CombinationFurnace, ProductWeightsWithLightSamplingReturnLeOverOneMinusAlbedo) {
   expect_furnace_exact(0.5f, combination_cases(true), kRuns);
+}
+
+// --eye-direct shared. Disabled: on main at 350c7ee it comes out 1.5-1.7 % dark at N2/N1 16 (t -4.8
+// clamped, -5.2 balance; -0.6 %, t -3.2, at N2/N1 1 balance), with light selection by tree or by power
+// alike, while every other furnace case is within 0.3 %. In a furnace every point's direct light is
+// exactly pi Le, so RB's patch-level direct light has no discretisation to blame. Enable with
+// --gtest_also_run_disabled_tests; re-enable when the mode is fixed.
+TEST(CombinationFurnace, DISABLED_ProductWeightsWithTheEyeVertexDirectLightSharedReturnLeOverOneMinusAlbedo) {
+  expect_furnace_exact(0.5f, combination_cases(true, {kRatioSixteenth, kRatioOne, kRatioSixteen},
+                                               {BP_BETA_CLAMPED, BP_BETA_BALANCE}, {true}),
+                       kRuns);
 }
 
 // a = 0.8: paths five vertices long on average, so the vertices after the first carry 64 % of the

@@ -127,13 +127,14 @@ LightConnections make_light_connections(std::uint32_t count, std::uint32_t seed)
 }
 
 // DESIGN.md §3, light sampling: for random paths of every length (1 = the eye vertex's direct light,
-// which PT owns alone), area and delta lights, the four techniques' weights computed the way the PT
+// which PT owns alone under --eye-direct pt and shares with RB under --eye-direct shared), area and delta lights, the four techniques' weights computed the way the PT
 // kernel and the RB kernel compute them sum to one, each finite and in [0, 1].
 TEST(CombinationWeights, FourTechniquesOfTheLastSegmentSumToOne) {
   const std::uint32_t count = 2000;
   const DeviceContext& device = test_device();
   BuiltProgram program = build_program(device, "test/weights_test.cl");
   cl::Kernel kernel(program.program, "last_segment_path_weights");
+  for (cl_uint eye_shared : {0u, 1u})
   for (float light_rate : {1.0f, 0.1f})
   for (std::uint32_t heuristic : {BP_BETA_CLAMPED, BP_BETA_BALANCE})
   for (std::uint32_t vertices : {1u, 2u, 3u, 8u, 40u, 300u})
@@ -145,7 +146,7 @@ TEST(CombinationWeights, FourTechniquesOfTheLastSegmentSumToOne) {
       cl::Buffer pdf = upload_buffer(device, "light pdfs", lights.pdf);
       cl::Buffer delta = upload_buffer(device, "delta flags", lights.is_delta);
       cl::Buffer out = make_buffer(device, "weights", CL_MEM_WRITE_ONLY, 4 * count * sizeof(float));
-      set_args(kernel, materials, geometry, pdf, delta, vertices, count, ratio, heuristic, light_rate, out);
+      set_args(kernel, materials, geometry, pdf, delta, vertices, count, ratio, heuristic, light_rate, eye_shared, out);
       Launcher launcher(device);
       launcher.launch("last_segment_path_weights", kernel, count, 64);
       launcher.finish();
@@ -160,11 +161,11 @@ TEST(CombinationWeights, FourTechniquesOfTheLastSegmentSumToOne) {
           ok = ok && std::isfinite(w[4 * i + k]) && w[4 * i + k] >= 0.0f && w[4 * i + k] <= 1.0f;
           sum += w[4 * i + k];
         }
-        if (vertices == 1) ok = ok && w[4 * i + 2] == 0.0f && w[4 * i + 3] == 0.0f;  // PT alone
+        if (vertices == 1 && !eye_shared) ok = ok && w[4 * i + 2] == 0.0f && w[4 * i + 3] == 0.0f;  // PT alone
         if (lights.is_delta[i]) ok = ok && w[4 * i] == 0.0f && w[4 * i + 2] == 0.0f;  // only light samples
         if (!ok || std::fabs(sum - 1.0f) > tolerance) {
           ++bad;
-          ADD_FAILURE() << "RB light rate " << light_rate << ", beta " << heuristic << ", " << vertices << " vertices, N2/N1 " << ratio << ", p_L " << lights.pdf[i]
+          ADD_FAILURE() << (eye_shared ? "eye direct shared, " : "") << "RB light rate " << light_rate << ", beta " << heuristic << ", " << vertices << " vertices, N2/N1 " << ratio << ", p_L " << lights.pdf[i]
                         << (lights.is_delta[i] ? " (delta)" : "") << ": PT bsdf " << w[4 * i] << " + PT light "
                         << w[4 * i + 1] << " + RB bundle " << w[4 * i + 2] << " + RB light " << w[4 * i + 3] << " = "
                         << sum;

@@ -1,0 +1,57 @@
+#!/usr/bin/env bash
+# Issue #12's claim: on a large interior at a real resolution the default combination beats both
+# estimators alone. Renders SCENE (default the Lambert house, rooms-lambert-100000) at SIZE for
+# SECONDS each with --mode pt, --mode rb and --mode combined at its defaults (plus the combination
+# with --eye-direct pt and with --light-selection power, to show what each part buys), REPEATS
+# times with different seeds, against a long path-traced reference (bench/reference.sh, cached).
+# Prints a Markdown table: relMSE (median and each run), the image mean against the reference's,
+# and the work done.
+# Usage: bench/house.sh [SCENE] [SECONDS] [SIZE] [REFERENCE_SPP] [REPEATS]
+#        defaults: rooms-lambert-100000 30 640x360 1024 2   (REFERENCE_SPP at SIZE, not scaled)
+set -euo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
+# shellcheck source=bench/lib.sh
+source "$here/lib.sh"
+if [ "${1:-}" = -h ] || [ "${1:-}" = --help ]; then sed -n '2,10p' "$0"; exit 2; fi
+cd "$bench_root"
+scene=$(bench_scene "${1:-rooms-lambert-100000}")
+seconds=${2:-30}
+size=${3:-640x360}
+ref_spp=${4:-1024}
+repeats=${5:-2}
+mapfile -t wh < <(bench_size_args "$size")
+ref=$(bench_reference "$scene" "$ref_spp" "$size")
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+run() {  # label, then render options
+  local label=$1; shift
+  local -a stats=()
+  for ((r = 1; r <= repeats; ++r)); do
+    bench_render "$scene" "${wh[@]}" --time "$seconds" --seed "$r" --reference "$ref" --out "$tmp/img" \
+      --stats "$tmp/s$r.json" "$@" 2>/dev/null
+    stats+=("$tmp/s$r.json")
+  done
+  python3 - "$label" "$ref" "${stats[@]}" <<'PY'
+import json, statistics, subprocess, sys
+label, ref = sys.argv[1], sys.argv[2]
+runs = [json.load(open(p)) for p in sys.argv[3:]]
+rel = [s["reference"]["layers"]["combined"]["rel_mse"] for s in runs]
+bias = [s["reference"]["layers"]["combined"]["relative_bias"] for s in runs]
+s = runs[0]
+work = f"{s['spp']} spp" + (f" + {s['iterations']} it" if s.get("iterations") else "")
+if "ratio_auto" in s:
+    c = s["ratio"]
+    work += f" (c = {c:g})" if c >= 1 else f" (c = 1/{1 / c:g})"
+mean_dev = " / ".join(f"{100 * b:+.1f} %" for b in bias)
+print(f"| {label} | {work} | {statistics.median(rel):.4f} | {' / '.join(f'{x:.4f}' for x in rel)} | {mean_dev} |")
+PY
+}
+echo "| method, ${size}, ${seconds} s | work done (seed 1) | relMSE (median) | relMSE per seed | image mean vs reference |"
+echo "|---|---|---|---|---|"
+run "\`--mode pt\`" --mode pt
+run "\`--mode rb\`" --mode rb
+run "\`--mode combined\` (defaults)" --mode combined
+run "\`--mode combined --eye-direct pt\`" --mode combined --eye-direct pt
+run "\`--mode combined --light-selection power\`" --mode combined --light-selection power
+echo
+echo "(reference: $(basename "$ref"), $ref_spp spp; $("$BUNDLEPATH" devices 2>/dev/null | head -1))"

@@ -1,0 +1,48 @@
+#!/usr/bin/env bash
+# CTest make_rooms_output: the written camera has no zfar (glTF: an infinite projection; tinygltf's
+# zfar 0 is invalid and makes Blender clip everything), in .glb and .gltf; --lambert writes ks = 0
+# everywhere and keeps kd; bad arguments exit 2 with the usage.
+# Usage: bench/make_rooms_test.sh MAKE_ROOMS WORKDIR
+set -euo pipefail
+tool=$1 dir=$2
+mkdir -p "$dir"
+"$tool" 3000 "$dir/plain.glb" 2>/dev/null
+"$tool" 3000 "$dir/lambert.gltf" --lambert 2>/dev/null
+"$tool" 3000 "$dir/lambert.glb" --lambert --seed 1 2>/dev/null
+python3 - "$dir" <<'PY'
+import json, struct, sys
+d = sys.argv[1]
+def glb_json(path):
+    b = open(path, "rb").read()
+    magic, version, length = struct.unpack("<4sII", b[:12])
+    assert magic == b"glTF" and version == 2 and length == len(b), (magic, version, length, len(b))
+    n, kind = struct.unpack("<II", b[12:20])
+    assert kind == 0x4E4F534A and n % 4 == 0, (hex(kind), n)
+    m, bin_kind = struct.unpack("<II", b[20 + n:28 + n])
+    assert bin_kind == 0x004E4942 and 28 + n + m == len(b), "BIN chunk"
+    return json.loads(b[20:20 + n])
+plain, lambert_glb = glb_json(f"{d}/plain.glb"), glb_json(f"{d}/lambert.glb")
+lambert = json.load(open(f"{d}/lambert.gltf"))
+for doc in (plain, lambert, lambert_glb):
+    for cam in doc["cameras"]:
+        p = cam["perspective"]
+        assert "zfar" not in p, p
+        assert p["znear"] > 0 and p["yfov"] > 0, p
+phong = lambda doc: {m["name"]: m["extras"]["phong"] for m in doc["materials"]}
+assert any(max(v["ks"]) > 0 for v in phong(plain).values()), "the plain house has Phong lobes"
+for doc in (lambert, lambert_glb):
+    for name, v in phong(doc).items():
+        assert v["ks"] == [0.0, 0.0, 0.0], (name, v)
+        assert v["kd"] == phong(plain)[name]["kd"], (name, v)
+print("make_rooms output OK")
+PY
+for args in "abc $dir/x.glb" "3000 $dir/x.glb --bogus" "3000" "3000 $dir/x.obj" "3000 $dir/x.glb --seed" "-5 $dir/x.glb"; do
+  rc=0
+  # shellcheck disable=SC2086
+  msg=$("$tool" $args 2>&1) || rc=$?
+  if [ $rc -ne 2 ] || [[ $msg != *usage:* ]]; then
+    echo "make_rooms $args: exit $rc, expected 2 with the usage: $msg" >&2
+    exit 1
+  fi
+done
+echo "make_rooms bad arguments OK"

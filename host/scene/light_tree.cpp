@@ -1,0 +1,278 @@
+#include "scene/light_tree.h"
+#include "kernels/shared/patch.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numeric>
+
+namespace bp {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr int kBins = 12;
+
+// A cone of directions: every direction within theta of axis (theta >= pi: all of them).
+struct Cone {
+  glm::dvec3 axis{0.0, 0.0, 1.0};
+  double theta = -1.0;  // < 0: empty
+  bool empty() const { return theta < 0.0; }
+};
+
+Cone cone_union(const Cone& a, const Cone& b) {
+  if (a.empty()) return b;
+  if (b.empty()) return a;
+  if (a.theta >= kPi || b.theta >= kPi) return Cone{a.axis, kPi};
+  const double between = std::acos(std::clamp(glm::dot(a.axis, b.axis), -1.0, 1.0));
+  if (between + b.theta <= a.theta) return a;
+  if (between + a.theta <= b.theta) return b;
+  const double theta = 0.5 * (a.theta + between + b.theta);
+  const glm::dvec3 turn = glm::cross(a.axis, b.axis);
+  if (theta >= kPi || glm::length(turn) < 1e-9) return Cone{a.axis, kPi};
+  // a's axis turned towards b's by theta - theta_a, about their common perpendicular.
+  const glm::dvec3 k = glm::normalize(turn), v = a.axis;
+  const double phi = theta - a.theta;
+  const glm::dvec3 axis = v * std::cos(phi) + glm::cross(k, v) * std::sin(phi) + k * glm::dot(k, v) * (1.0 - std::cos(phi));
+  return Cone{glm::normalize(axis), theta};
+}
+
+// What a node bounds: position, normals, the emission spread about them, power.
+struct LightBounds {
+  glm::dvec3 lo{1e300}, hi{-1e300};
+  Cone normals;
+  double theta_e = 0.0;
+  double power = 0.0;
+  bool two_sided = false;
+
+  void grow(const LightBounds& b) {
+    lo = glm::min(lo, b.lo);
+    hi = glm::max(hi, b.hi);
+    normals = cone_union(normals, b.normals);
+    theta_e = std::max(theta_e, b.theta_e);
+    power += b.power;
+    two_sided = two_sided || b.two_sided;
+  }
+  glm::dvec3 centroid() const { return 0.5 * (lo + hi); }
+  double surface_area() const {
+    const glm::dvec3 e = glm::max(hi - lo, glm::dvec3(0.0));
+    return 2.0 * (e.x * e.y + e.y * e.z + e.z * e.x);
+  }
+};
+
+// Conty & Kulla's orientation measure: the solid angle a cone of normals (theta_o) with emission
+// spread theta_e can light, weighted by cosine.
+double orientation_measure(double theta_o, double theta_e) {
+  theta_o = std::min(theta_o, kPi);
+  const double theta_w = std::min(theta_o + theta_e, kPi), sin_o = std::sin(theta_o), cos_o = std::cos(theta_o);
+  return 2.0 * kPi * (1.0 - cos_o) +
+         0.5 * kPi * (2.0 * theta_w * sin_o - std::cos(theta_o - 2.0 * theta_w) - 2.0 * theta_o * sin_o + cos_o);
+}
+
+// The split cost of one side: power x orientation measure x surface area (a point's area counts as a
+// tiny one so that point lights still prefer compact groups), stretched along thin axes.
+double split_cost(const LightBounds& b, double stretch) {
+  const glm::dvec3 e = b.hi - b.lo;
+  const double size = std::max({e.x, e.y, e.z, 1e-30});
+  return b.power * orientation_measure(std::max(b.normals.theta, 0.0), b.theta_e) *
+         (b.surface_area() + 1e-6 * size * size + 1e-30) * stretch;
+}
+
+LightBounds bounds_of(const Light& l, bool double_sided) {
+  LightBounds b;
+  const glm::dvec3 p(l.position[0], l.position[1], l.position[2]), axis(l.axis[0], l.axis[1], l.axis[2]);
+  b.lo = b.hi = p;
+  b.power = double(l.select_probability);
+  if (l.type == BP_LIGHT_TRIANGLE) {
+    for (const float* e : {l.edge1, l.edge2}) {
+      const glm::dvec3 q = p + glm::dvec3(e[0], e[1], e[2]);
+      b.lo = glm::min(b.lo, q);
+      b.hi = glm::max(b.hi, q);
+    }
+    b.normals = Cone{glm::length(axis) > 0.0 ? glm::normalize(axis) : glm::dvec3(0, 0, 1), 0.0};
+    b.theta_e = 0.5 * kPi;
+    b.two_sided = double_sided;
+  } else if (l.type == BP_LIGHT_SPOT) {
+    b.normals = Cone{glm::normalize(axis), 0.0};
+    b.theta_e = std::acos(std::clamp(double(l.cos_outer), -1.0, 1.0));
+  } else {
+    b.normals = Cone{glm::dvec3(0, 0, 1), kPi};  // a point light shines everywhere
+    b.theta_e = 0.5 * kPi;
+  }
+  return b;
+}
+
+struct Builder {
+  LightList& list;
+  std::vector<LightBounds> light_bounds;
+  std::vector<std::uint32_t> order;  // light indices, partitioned as the tree is built
+  std::vector<LightTreeNode> nodes;
+
+  static void store(float* out, const glm::dvec3& v) {
+    for (int i = 0; i < 3; ++i) out[i] = float(v[i]);
+  }
+
+  // Node bounds in float, rounded outwards so they hold what they bound.
+  static void store_node(LightTreeNode& n, const LightBounds& b) {
+    for (int i = 0; i < 3; ++i) {
+      n.lo[i] = std::nextafter(float(b.lo[i]), -INFINITY);
+      n.hi[i] = std::nextafter(float(b.hi[i]), INFINITY);
+    }
+    n.power = float(b.power);
+    store(n.axis, b.normals.axis);
+    const double theta_o = b.normals.theta + 1e-6, theta_e = b.theta_e + 1e-6;  // rounding, outwards
+    n.cos_theta_o = theta_o >= kPi ? -1.0f : float(std::cos(theta_o));
+    n.cos_theta_e = theta_e >= kPi ? -1.0f : float(std::cos(theta_e));
+    n.flags = b.two_sided ? BP_LIGHT_NODE_TWO_SIDED : 0u;
+  }
+
+  // Index in `order` where [begin, end) splits; the halves are partitioned in place.
+  std::size_t split(std::size_t begin, std::size_t end, const LightBounds& all, bool balanced) {
+    glm::dvec3 clo(1e300), chi(-1e300);
+    for (std::size_t i = begin; i < end; ++i) {
+      const glm::dvec3 c = light_bounds[order[i]].centroid();
+      clo = glm::min(clo, c);
+      chi = glm::max(chi, c);
+    }
+    const glm::dvec3 extent = chi - clo, box = all.hi - all.lo;
+    int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
+    auto by_axis = [&](int a) {
+      return [&, a](std::uint32_t x, std::uint32_t y) {
+        return light_bounds[x].centroid()[a] < light_bounds[y].centroid()[a];
+      };
+    };
+    const std::size_t middle = begin + (end - begin) / 2;
+    if (balanced || !(extent[axis] > 0.0)) {
+      std::nth_element(order.begin() + begin, order.begin() + middle, order.begin() + end, by_axis(axis));
+      return middle;
+    }
+    double best_cost = INFINITY;
+    int best_axis = -1, best_bin = -1;
+    const double max_box = std::max({box.x, box.y, box.z});
+    for (int a = 0; a < 3; ++a) {
+      if (!(extent[a] > 0.0)) continue;
+      std::array<LightBounds, kBins> bins{};
+      auto bin_of = [&](std::uint32_t l) {
+        return std::clamp(int(kBins * (light_bounds[l].centroid()[a] - clo[a]) / extent[a]), 0, kBins - 1);
+      };
+      for (std::size_t i = begin; i < end; ++i) bins[bin_of(order[i])].grow(light_bounds[order[i]]);
+      std::array<LightBounds, kBins> below{};  // below[k]: bins 0..k
+      LightBounds run;
+      for (int k = 0; k < kBins; ++k) {
+        run.grow(bins[k]);
+        below[k] = run;
+      }
+      const double stretch = max_box / std::max(box[a], 1e-30 * max_box + 1e-300);
+      LightBounds above;
+      for (int k = kBins - 1; k >= 1; --k) {
+        above.grow(bins[k]);
+        if (above.lo.x > above.hi.x) continue;                       // nothing above yet
+        if (below[k - 1].lo.x > below[k - 1].hi.x) continue;           // nothing below
+        const double cost = split_cost(below[k - 1], stretch) + split_cost(above, stretch);
+        if (cost < best_cost) {
+          best_cost = cost;
+          best_axis = a;
+          best_bin = k;
+        }
+      }
+    }
+    if (best_axis < 0) {
+      std::nth_element(order.begin() + begin, order.begin() + middle, order.begin() + end, by_axis(axis));
+      return middle;
+    }
+    const double lo = clo[best_axis], ext = extent[best_axis];
+    auto first = std::partition(order.begin() + begin, order.begin() + end, [&](std::uint32_t l) {
+      return std::clamp(int(kBins * (light_bounds[l].centroid()[best_axis] - lo) / ext), 0, kBins - 1) < best_bin;
+    });
+    const std::size_t at = std::size_t(first - order.begin());
+    if (at == begin || at == end) {  // every centroid in one bin (rounding): halve instead
+      std::nth_element(order.begin() + begin, order.begin() + middle, order.begin() + end, by_axis(best_axis));
+      return middle;
+    }
+    return at;
+  }
+
+  // Builds the subtree of order[begin, end) at nodes.size(); returns its index.
+  std::uint32_t build(std::size_t begin, std::size_t end, std::uint32_t depth, std::uint64_t trail) {
+    const std::uint32_t index = std::uint32_t(nodes.size());
+    nodes.emplace_back();
+    LightBounds all;
+    for (std::size_t i = begin; i < end; ++i) all.grow(light_bounds[order[i]]);
+    if (end - begin == 1) {
+      LightTreeNode& leaf = nodes[index];
+      store_node(leaf, all);
+      leaf.flags |= BP_LIGHT_NODE_LEAF;
+      leaf.child = order[begin];
+      Light& l = list.lights[order[begin]];
+      l.tree_trail[0] = std::uint32_t(trail);
+      l.tree_trail[1] = std::uint32_t(trail >> 32);
+      l.tree_depth = depth;
+      return index;
+    }
+    // Balanced splits once the depth budget (64 trail bits) could run out.
+    const std::uint32_t levels_needed = std::uint32_t(std::ceil(std::log2(double(end - begin))));
+    const std::size_t at = split(begin, end, all, depth + levels_needed >= 56);
+    build(begin, at, depth + 1, trail);
+    const std::uint32_t second = build(at, end, depth + 1, trail | (std::uint64_t(1) << depth));
+    store_node(nodes[index], all);
+    nodes[index].child = second;
+    return index;
+  }
+};
+
+}  // namespace
+
+std::vector<LightTreeNode> build_light_tree(LightList& lights, const Scene& scene, float offset) {
+  Builder b{lights, {}, {}, {}};
+  const std::size_t n = lights.lights.size();
+  if (n == 0) return {};
+  b.light_bounds.reserve(n);
+  for (const Light& l : lights.lights)
+    b.light_bounds.push_back(bounds_of(l, l.type == BP_LIGHT_TRIANGLE && scene.materials[l.material].double_sided));
+  b.order.resize(n);
+  std::iota(b.order.begin(), b.order.end(), 0u);
+  b.nodes.reserve(2 * n);
+  b.build(0, n, 0, 0);
+  for (LightTreeNode& node : b.nodes) node.receiver_offset = offset;
+  return b.nodes;
+}
+
+std::vector<LightReceiver> build_light_receivers(const Scene& scene, const PatchLayout& patches,
+                                                 const LightList& lights, float offset) {
+  std::vector<LightReceiver> out(patches.patch_count);
+  for (std::size_t t = 0; t < scene.triangles.size(); ++t) {
+    const SceneTriangle& tri = scene.triangles[t];
+    const std::uint32_t k = patches.subdiv[t], k2 = k * k;
+    const bool double_sided = scene.materials[tri.material].double_sided;
+    const glm::vec3 e1 = tri.p[1] - tri.p[0], e2 = tri.p[2] - tri.p[0];
+    glm::vec3 n = glm::cross(e1, e2);
+    const float len = glm::length(n);
+    n = len > 0.0f ? n / len : glm::vec3(0.0f, 0.0f, 1.0f);
+    const std::uint32_t light = lights.light_of_triangle.empty() ? BP_NO_LIGHT : lights.light_of_triangle[t];
+    for (std::uint32_t local = 0; local < k2; ++local) {
+      float b1[3], b2[3];
+      patch_corner_barycentrics(local, k, b1, b2);
+      glm::dvec3 c[3], centroid(0.0);
+      for (int i = 0; i < 3; ++i) {
+        c[i] = glm::dvec3(tri.p[0]) + double(b1[i]) * glm::dvec3(e1) + double(b2[i]) * glm::dvec3(e2);
+        centroid += c[i] / 3.0;
+      }
+      double radius = 0.0;
+      for (int i = 0; i < 3; ++i) radius = std::max(radius, glm::length(c[i] - centroid));
+      // Grown for the float rounding of hit points and patch indices, and the rays' offset.
+      const float r = float(radius * 1.001 + 1e-6 * glm::length(centroid)) + 4.0f * offset;
+      for (std::uint32_t side = 0; side < (double_sided ? 2u : 1u); ++side) {
+        LightReceiver& rec = out[patches.first_patch[t] + side * k2 + local];
+        rec = LightReceiver{};
+        for (int i = 0; i < 3; ++i) {
+          rec.centroid[i] = float(centroid[i]);
+          rec.normal[i] = side == 0 ? n[i] : -n[i];
+        }
+        rec.radius = r;
+        rec.light = light;
+      }
+    }
+  }
+  return out;
+}
+
+}  // namespace bp

@@ -1,0 +1,53 @@
+// --ratio auto's rule (passes/combined.h): c = f / (1 - f) · t_RB / t_PT, snapped to a power of 2.
+#include "passes/combined.h"
+
+#include <gtest/gtest.h>
+#include <cmath>
+#include <utility>
+
+namespace bp {
+namespace {
+
+TEST(AutoRatio, GivesPtItsShareOfTheTime) {
+  const double f = kAutoRatioPtTimeShare;
+  for (double t_pt : {1e-4, 3e-3, 0.2})
+    for (double t_rb : {1e-4, 2e-3, 0.05}) {
+      const RoundShape shape = auto_ratio_shape(t_pt, t_rb);
+      const double c = shape.ratio(), exact = f / (1 - f) * t_rb / t_pt;
+      EXPECT_EQ(std::exp2(std::round(std::log2(c))), c) << "a power of 2";
+      if (exact > 1.0 / 1024 && exact < 64) {
+        EXPECT_LE(std::fabs(std::log2(c / exact)), 0.5 + 1e-9) << t_pt << " " << t_rb;
+        const double share = shape.pt_samples * t_pt / (shape.pt_samples * t_pt + shape.rb_iterations * t_rb);
+        EXPECT_NEAR(share, f, 0.15) << t_pt << " " << t_rb;
+      }
+      EXPECT_EQ(round_shape(c).pt_samples, shape.pt_samples);
+      EXPECT_EQ(round_shape(c).rb_iterations, shape.rb_iterations);
+    }
+}
+
+TEST(AutoRatio, StaysWithinItsRange) {
+  EXPECT_EQ(auto_ratio_shape(1.0, 1e-9).rb_iterations, 1024u);
+  EXPECT_EQ(auto_ratio_shape(1e-9, 1.0).pt_samples, 64u);
+  EXPECT_EQ(auto_ratio_shape(0.0, 0.0).ratio(), 0.5);  // f / (1 - f) = 0.43 at equal costs
+}
+
+}  // namespace
+}  // namespace bp
+
+namespace bp {
+namespace {
+
+// PT's probe image: the render's own size up to 128x128 pixels, else the same view scaled to about
+// that many pixels with the aspect kept.
+TEST(AutoRatio, ProbeImageIsTheSameViewAtAbout128SquaredPixels) {
+  EXPECT_EQ(probe_image_size(20, 20).width, 20);
+  EXPECT_EQ(probe_image_size(128, 128).height, 128);
+  for (auto [w, h] : {std::pair{640, 360}, std::pair{1280, 720}, std::pair{4096, 100}}) {
+    const ProbeImageSize s = probe_image_size(w, h);
+    EXPECT_NEAR(double(s.width) * s.height, double(kAutoRatioProbePixels), 0.05 * kAutoRatioProbePixels) << w << "x" << h;
+    EXPECT_NEAR(double(s.width) / s.height, double(w) / h, 0.05 * w / h) << w << "x" << h;
+  }
+}
+
+}  // namespace
+}  // namespace bp
