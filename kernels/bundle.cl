@@ -121,7 +121,11 @@ __kernel void rb_outgoing(__global const BundleElement* elements, __global const
                                         0.0f, ls.pdf_light, ls.is_delta).rb_light
                   : 0.0f;
     eye_light[2 * p] = (float4)(ls.irradiance.x * w, ls.irradiance.y * w, ls.irradiance.z * w, 0.0f);
-    eye_light[2 * p + 1] = (float4)(ls.wi.x, ls.wi.y, ls.wi.z, 0.0f);
+    // rb_eye reflects the interpolated irradiance of the patches around a pixel along this direction:
+    // where this patch's own sample brought nothing (blocked, not taken, or a light edge-on), along the
+    // normal, so the neighbours' light is not lost to a zero BRDF (exact for Lambert either way).
+    float3 dir = w > 0.0f ? ls.wi : n;
+    eye_light[2 * p + 1] = (float4)(dir.x, dir.y, dir.z, 0.0f);
   }
   for (uint c = 0; c < it.chains; ++c) {
     float4 e = e_in[p * it.chains + c];

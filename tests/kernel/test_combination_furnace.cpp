@@ -133,12 +133,12 @@ TEST(CombinationFurnace, ProductWeightsWithLightSamplingReturnLeOverOneMinusAlbe
   expect_furnace_exact(0.5f, combination_cases(true), kRuns);
 }
 
-// --eye-direct shared. Disabled: on main at 350c7ee it comes out 1.5-1.7 % dark at N2/N1 16 (t -4.8
-// clamped, -5.2 balance; -0.6 %, t -3.2, at N2/N1 1 balance), with light selection by tree or by power
-// alike, while every other furnace case is within 0.3 %. In a furnace every point's direct light is
-// exactly pi Le, so RB's patch-level direct light has no discretisation to blame. Enable with
-// --gtest_also_run_disabled_tests; re-enable when the mode is fixed.
-TEST(CombinationFurnace, DISABLED_ProductWeightsWithTheEyeVertexDirectLightSharedReturnLeOverOneMinusAlbedo) {
+// --eye-direct shared. It caught a bias: 1.5-1.7 % dark at N2/N1 16, because rb_eye reflected the
+// interpolated light-sample irradiance of a pixel's patches along the hit patch's own sample
+// direction, which is edge-on (a zero BRDF) where that patch drew a light in its own plane. In a
+// furnace every point's direct light is exactly pi Le, so RB's patch-level direct light has no
+// discretisation to blame.
+TEST(CombinationFurnace, ProductWeightsWithTheEyeVertexDirectLightSharedReturnLeOverOneMinusAlbedo) {
   expect_furnace_exact(0.5f, combination_cases(true, {kRatioSixteenth, kRatioOne, kRatioSixteen},
                                                {BP_BETA_CLAMPED, BP_BETA_BALANCE}, {true}),
                        kRuns);
