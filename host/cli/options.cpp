@@ -67,7 +67,11 @@ options (defaults in brackets):
                                                                 [min(1, pixels / patches)]
   --eye-direct E      combined with light sampling: the eye vertex's direct light split with
                       RB by the four techniques (shared; RB's share from a view-independent
-                      proxy of PT's density) or PT's alone (pt)               [shared]
+                      proxy of PT's density: smooth, but blurred to RB's patches), PT's alone
+                      (pt: unbiased per pixel, noisy at few samples), or auto: shared when
+                      the render gives each pixel fewer than 64 PT samples (from --spp,
+                      --iterations and --ratio, or for --time from the ratio probe's costs)
+                                                                [auto]
   --ratio C           combined: PT samples per pixel per RB iteration, or auto   [auto]
                       0: ray bundles alone (w_RB = 1; count with --iterations or --time)
                       auto: a short timed probe after the kernels are built (about 2 % of
@@ -150,7 +154,8 @@ RenderOptions parse_render_options(const std::vector<std::string>& args) {
          o.beta = v;
        }},
       {"--eye-direct", [&](auto& k, auto& v) {
-         if (v != "shared" && v != "pt") throw UsageError(k + ": expected shared or pt, got '" + v + "'");
+         if (v != "shared" && v != "pt" && v != "auto")
+           throw UsageError(k + ": expected shared, pt or auto, got '" + v + "'");
          o.eye_direct = v;
        }},
       {"--rb-light-rate", [&](auto& k, auto& v) {

@@ -30,7 +30,7 @@ struct RenderOptions {
   std::string weights = "product";  // combined: product, paper, none
   std::string beta = "clamped";     // product weights: the per-vertex beta, clamped or balance
   float light_rate = 0.0f;          // combined + light sampling: RB's light-sample rate; 0: default_light_rate
-  std::string eye_direct = "shared";  // combined + light sampling: the eye vertex's direct light, shared or pt
+  std::string eye_direct = "auto";  // combined + light sampling: the eye vertex's direct light, shared, pt or auto
   double ratio = -1.0;           // combined: PT samples per pixel per RB iteration (0: RB alone); < 0: auto
   bool all_layers = false;       // --layers all: also pt_raw and rb_raw
   bool light_sampling = true;    // --no-light-sampling turns it off (light_sampling_applies says where it acts)

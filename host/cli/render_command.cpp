@@ -60,8 +60,9 @@ struct Layers {
 };
 
 // Everything that shapes the image, canonically: a checkpoint resumes only under the same.
+// eye_direct: what the eye vertex's direct light is (shared or pt; --eye-direct auto resolved).
 std::string options_key(const RenderOptions& o, int width, int height, float patch_size, std::uint32_t bins,
-                        const std::optional<RoundShape>& shape) {
+                        const std::optional<RoundShape>& shape, const std::string& eye_direct) {
   std::string key = "scene=" + std::filesystem::absolute(o.scene).lexically_normal().string() +
                     ";mode=" + o.mode + ";size=" + std::to_string(width) + "x" + std::to_string(height) +
                     ";seed=" + std::to_string(o.seed) + ";patch_size=" + std::to_string(patch_size) +
@@ -73,7 +74,7 @@ std::string options_key(const RenderOptions& o, int width, int height, float pat
            ";shading=" + (o.gouraud ? "gouraud" : "flat");
   if (shape)
     key += ";weights=" + o.weights + ";beta=" + o.beta + ";light_rate=" + std::to_string(o.light_rate) +
-           ";eye_direct=" + o.eye_direct +
+           ";eye_direct=" + eye_direct +
            ";round=" + std::to_string(shape->pt_samples) + "spp+" + std::to_string(shape->rb_iterations) + "it";
   return key;
 }
@@ -87,6 +88,14 @@ std::optional<RoundShape> round_of_key(const std::string& key) {
   if (std::sscanf(key.c_str() + at + tag.size(), "%lluspp+%lluit", &spp, &iterations) != 2 || iterations == 0)
     return std::nullopt;
   return RoundShape{std::uint32_t(spp), std::uint32_t(iterations)};
+}
+
+// The eye-direct choice a checkpoint was saved with (its key's ";eye_direct=shared|pt"), for
+// --eye-direct auto's --resume.
+std::optional<bool> eye_direct_shared_of_key(const std::string& key) {
+  if (key.find(";eye_direct=shared") != std::string::npos) return true;
+  if (key.find(";eye_direct=pt") != std::string::npos) return false;
+  return std::nullopt;
 }
 
 std::string ratio_text(const RoundShape& shape) {
@@ -157,7 +166,9 @@ int run_render(const RenderOptions& o) {
       o.light_rate > 0.0f ? o.light_rate : default_light_rate(patches.patch_count, std::size_t(width) * height);
   const std::string kernel_opts = o.generic_kernels ? "" : kernel_options(features_for(scene, light_sampling));
   // Both passes or neither: the split is exact only when PT and RB weight the eye vertex alike.
-  const bool eye_direct_shared = light_sampling && o.eye_direct == "shared";
+  // --eye-direct auto builds them shared (RB's chains are a superset) and decides below.
+  const bool eye_direct_auto = light_sampling && use_pt && use_rb && o.eye_direct == "auto";
+  bool eye_direct_shared = light_sampling && (o.eye_direct == "shared" || eye_direct_auto);
   Accumulator pt_accum(width, height, o.all_layers), rb_accum(width, height, o.all_layers);
 
   std::unique_ptr<PathTracerPass> pt;
@@ -228,10 +239,42 @@ int run_render(const RenderOptions& o) {
     pt->set_weight_ratio(ratio_n2_over_n1);
     rb->set_weight_ratio(ratio_n2_over_n1);
   }
+  // --eye-direct auto: shared below kEyeDirectSharedBelowSpp PT samples per pixel (a --time budget
+  // needs the probe's costs: probed here when --ratio did not probe already), or what a resumed
+  // render was saved with. Where it is pt, the ray-bundle pass is made again without the eye chain.
+  if (eye_direct_auto && pt && rb && weight_mode == BP_WEIGHTS_PRODUCT) {
+    std::optional<bool> saved = resumed ? eye_direct_shared_of_key(resumed->options) : std::nullopt;
+    if (saved) {
+      eye_direct_shared = *saved;
+    } else {
+      double t_pt = probe ? probe->pt_seconds_per_spp : 0.0, t_rb = probe ? probe->rb_seconds_per_iteration : 0.0;
+      if (!probe && o.seconds > 0.0 && !o.spp && !o.iterations) {
+        const ProbeImageSize size = probe_image_size(width, height);
+        Accumulator probe_accum(size.width, size.height, false);
+        PathTracerPass probe_pt(device, device_scene, pack_camera(scene.camera, size.width, size.height), pt_settings,
+                                probe_accum);
+        const RatioProbe timing = probe_ratio(probe_pt, std::size_t(width) * height, *rb, rb_accum,
+                                              RatioProbeBudget{o.seconds, o.spp, o.iterations});
+        t_pt = timing.pt_seconds_per_spp;
+        t_rb = timing.rb_seconds_per_iteration;
+      }
+      const double spp = expected_pt_spp(*shape, o.spp, o.iterations, o.seconds, t_pt, t_rb);
+      eye_direct_shared = spp < kEyeDirectSharedBelowSpp;
+      std::fprintf(stderr, "bundlepath: --eye-direct auto: %s (about %.0f PT samples per pixel)\n",
+                   eye_direct_shared ? "shared" : "pt", spp);
+    }
+    if (!eye_direct_shared) {
+      pt->set_eye_direct_shared(false);
+      rb_settings.eye_direct_shared = false;
+      rb_settings.weight_ratio = ratio_n2_over_n1;
+      rb = std::make_unique<RayBundlePass>(device, device_scene, *geometry, camera, rb_settings, rb_accum);
+    }
+  }
   // A resumed render starts from the checkpoint's accumulators, ray-bundle state and round count.
   std::uint64_t first_round = 0;
   double earlier_seconds = 0.0;
-  const std::string key = options_key(o, width, height, patch_size, rb ? rb_settings.bins : 0, shape);
+  const std::string key = options_key(o, width, height, patch_size, rb ? rb_settings.bins : 0, shape,
+                                      eye_direct_shared ? "shared" : "pt");
   if (resumed) {
     Checkpoint& c = *resumed;
     if (c.options != key)
@@ -382,7 +425,7 @@ int run_render(const RenderOptions& o) {
       stats["weights"] = o.weights;
       if (weight_mode == BP_WEIGHTS_PRODUCT) stats["beta"] = o.beta;
       if (light_sampling && rb) stats["rb_light_rate"] = light_rate;
-      if (light_sampling && rb) stats["eye_direct"] = o.eye_direct;
+      if (light_sampling && rb) stats["eye_direct"] = eye_direct_shared ? "shared" : "pt";
       stats["ratio"] = shape->ratio();
       if (probe)
         stats["ratio_auto"] = {{"chosen", shape->ratio()},

@@ -39,6 +39,18 @@ RoundShape auto_ratio_shape(double pt_seconds_per_spp, double rb_seconds_per_ite
   return round_shape(std::ldexp(1.0, log2_c));
 }
 
+double expected_pt_spp(const RoundShape& shape, std::uint64_t spp, std::uint64_t iterations, double seconds,
+                       double pt_seconds_per_spp, double rb_seconds_per_iteration) {
+  const double c = shape.ratio();
+  double expected = 1e300;
+  if (spp) expected = std::min(expected, double(spp));
+  if (iterations) expected = std::min(expected, double(iterations) * c);
+  // A second holds N1 t_PT + N2 t_RB per round of N1 = c N2: c / (c t_PT + t_RB) samples per pixel.
+  if (seconds > 0.0 && pt_seconds_per_spp + rb_seconds_per_iteration > 0.0)
+    expected = std::min(expected, seconds * c / (c * pt_seconds_per_spp + rb_seconds_per_iteration));
+  return expected == 1e300 ? 64.0 : expected;  // no budget: the combined default of 64 spp
+}
+
 namespace {
 double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();

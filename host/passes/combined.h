@@ -54,6 +54,20 @@ struct ProbeImageSize {
 ProbeImageSize probe_image_size(int width, int height);
 
 // What the probe measured and chose.
+// --eye-direct auto (DESIGN.md §3, "Sharing the eye vertex's direct light with RB"): the eye vertex's
+// direct light is shared with RB when the render will give each pixel fewer than this many PT
+// samples, else it is PT's alone. RB's patch-level direct light is smooth but blurred (a
+// discretisation error that no number of iterations removes); PT's per-pixel light samples are
+// unbiased but noisy until there are many of them. Measured (README): on the 100 000-triangle house
+// at 640x360, 30 s (about 16 PT spp) sharing is about 7x better; on cornell-glossy at 128x128, 20 s
+// (about 300 spp) PT alone is about 3x better.
+constexpr double kEyeDirectSharedBelowSpp = 64.0;
+
+// PT samples per pixel a combined render at ratio c will take: its --spp, its --iterations times c,
+// or what fits in its --time at the probe's costs (0 where nothing bounds it: the default 64 spp).
+double expected_pt_spp(const RoundShape& shape, std::uint64_t spp, std::uint64_t iterations, double seconds,
+                       double pt_seconds_per_spp, double rb_seconds_per_iteration);
+
 struct RatioProbe {
   RoundShape chosen;
   double pt_seconds_per_spp = 0.0;

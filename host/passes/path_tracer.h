@@ -37,6 +37,7 @@ class PathTracerPass : public ProgressivePass {
   const Launcher& launcher() const override { return launcher_; }
   // N2 / N1 of the weights from the next sample on (--ratio auto sets it once, after its probe).
   void set_weight_ratio(float n2_over_n1) { params_.weight_ratio = n2_over_n1; }
+  void set_eye_direct_shared(bool shared) { params_.eye_direct_shared = shared ? 1u : 0u; }
   std::uint32_t pixel_width() const { return camera_.width; }
   std::uint32_t pixel_height() const { return camera_.height; }
 
