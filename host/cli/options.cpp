@@ -70,8 +70,8 @@ options (defaults in brackets):
                       proxy of PT's density: smooth, but blurred to RB's patches), PT's alone
                       (pt: unbiased per pixel, noisy at few samples), or auto: shared when
                       the render gives each pixel fewer than 64 PT samples (from --spp,
-                      --iterations and --ratio, or for --time from the ratio probe's costs)
-                                                                [auto]
+                      --iterations and --ratio, or for --time from the ratio probe's costs;
+                      --resume reuses the saved choice)                       [auto]
   --ratio C           combined: PT samples per pixel per RB iteration, or auto   [auto]
                       0: ray bundles alone (w_RB = 1; count with --iterations or --time)
                       auto: a short timed probe after the kernels are built (about 2 % of

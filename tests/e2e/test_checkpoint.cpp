@@ -72,8 +72,13 @@ TEST(Checkpoint, ResumedAutoRatioReusesTheSavedRatio) {
   nlohmann::json s2 = nlohmann::json::parse(std::ifstream(dir + "/rest.json"));
   EXPECT_EQ(s2["ratio"].get<double>(), chosen);
   EXPECT_EQ(s2["ratio_auto"]["from_checkpoint"], true);
+  // --eye-direct auto, the same: 8 spp shared the eye vertex's direct light, and the resumed render
+  // keeps that although 64 spp alone would give it to PT.
+  EXPECT_EQ(s1["eye_direct"], "shared");
+  EXPECT_EQ(s2["eye_direct"], "shared");
+  EXPECT_EQ(rest.output.find("--eye-direct auto:"), std::string::npos) << "a resumed render must not choose again";
   const std::string fixed = chosen >= 1.0 ? std::to_string(std::lround(chosen)) : "1/" + std::to_string(std::lround(1.0 / chosen));
-  ASSERT_EQ(run_cli(common + "--ratio " + fixed + " --spp 64 --out " + dir + "/whole").exit_code, 0);
+  ASSERT_EQ(run_cli(common + "--ratio " + fixed + " --eye-direct shared --spp 64 --out " + dir + "/whole").exit_code, 0);
   expect_same_image(dir + "/rest.exr", dir + "/whole.exr");
 }
 
