@@ -69,7 +69,7 @@ options (defaults in brackets):
                       RB by the four techniques (shared; RB's share from a view-independent
                       proxy of PT's density: smooth, but blurred to RB's patches), PT's alone
                       (pt: unbiased per pixel, noisy at few samples), or auto: shared when
-                      the render gives each pixel fewer than 64 PT samples (from --spp,
+                      the render gives each pixel fewer than 128 PT samples (from --spp,
                       --iterations and --ratio, or for --time from the ratio probe's costs;
                       --resume reuses the saved choice)                       [auto]
   --ratio C           combined: PT samples per pixel per RB iteration, or auto   [auto]
@@ -79,7 +79,7 @@ options (defaults in brackets):
                       1.5 s, and at least one RB iteration; not counted in --time, its
                       samples are discarded) measures PT's cost per sample (on the same view
                       at about 128x128 pixels, scaled) and RB's per iteration, and picks c,
-                      a power of 2, so that PT gets about 30 % of the time; --spp or
+                      a power of 2, so that PT gets about 50 % of the time; --spp or
                       --iterations then fixes the other count from that c. The chosen c is
                       printed and in --stats; give it as --ratio for a reproducible image.
                       --resume reuses the saved c

@@ -30,10 +30,13 @@ struct CombinedWeights {
 };
 CombinedWeights combined_weights(std::uint32_t mode, const RoundShape& shape);
 
-// --ratio auto (DESIGN.md §3, "The ratio c"): the share of the render time PT gets. To be set from the
-// ratio sweep (bench/ratio.sh prints the share that would have picked each scene's best ratio); 0.3
-// is the first guess. `render --help` (cli/options.cpp) quotes these three constants.
-constexpr double kAutoRatioPtTimeShare = 0.3;
+// --ratio auto (DESIGN.md §3, "The ratio c"): the share of the render time PT gets. Measured side by
+// side on this 2-core machine (README, issue #12): cornell-glossy at 128x128, 20 s, is best near
+// c = 1/4 (PT about 0.56 of the time; c = 1/16, PT about 0.3, was 1.4x worse), the Lambert house at
+// 640x360, 30 s, near 1/4 to 1/8 (0.5 to 0.3): 0.5 picks 1/4 on both. bench/ratio.sh prints, per scene
+// and resolution, the share that would have picked the best fixed ratio. `render --help`
+// (cli/options.cpp) quotes these three constants.
+constexpr double kAutoRatioPtTimeShare = 0.5;
 // The probe's timed work: this share of the render's time (--time, or the time --spp / --iterations
 // would take, estimated from one sample and one iteration), at most kAutoRatioProbeCapSeconds.
 constexpr double kAutoRatioProbeShare = 0.02;
@@ -58,10 +61,11 @@ ProbeImageSize probe_image_size(int width, int height);
 // direct light is shared with RB when the render will give each pixel fewer than this many PT
 // samples, else it is PT's alone. RB's patch-level direct light is smooth but blurred (a
 // discretisation error that no number of iterations removes); PT's per-pixel light samples are
-// unbiased but noisy until there are many of them. Measured (README): on the 100 000-triangle house
-// at 640x360, 30 s (about 16 PT spp) sharing is about 7x better; on cornell-glossy at 128x128, 20 s
-// (about 300 spp) PT alone is about 3x better.
-constexpr double kEyeDirectSharedBelowSpp = 64.0;
+// unbiased but noisy until there are many of them. Measured side by side (README, issue #12): on the
+// Lambert house at 640x360, 30 s, sharing is better at 40 and at 84 PT spp (relMSE 0.0026 against
+// 0.0068, 0.0028 against 0.0040); on cornell-glossy at 128x128, 20 s (300 to 1200 spp) PT alone is
+// better (0.0009 against 0.0028 at about 300 spp, loaded machine).
+constexpr double kEyeDirectSharedBelowSpp = 128.0;
 
 // PT samples per pixel a combined render at ratio c will take: its --spp, its --iterations times c,
 // or what fits in its --time at the probe's costs (0 where nothing bounds it: the default 64 spp).

@@ -28,7 +28,9 @@ TEST(AutoRatio, GivesPtItsShareOfTheTime) {
 TEST(AutoRatio, StaysWithinItsRange) {
   EXPECT_EQ(auto_ratio_shape(1.0, 1e-9).rb_iterations, 1024u);
   EXPECT_EQ(auto_ratio_shape(1e-9, 1.0).pt_samples, 64u);
-  EXPECT_EQ(auto_ratio_shape(0.0, 0.0).ratio(), 0.5);  // f / (1 - f) = 0.43 at equal costs
+  // equal (clamped) costs: f / (1 - f), snapped to a power of 2
+  const double f = kAutoRatioPtTimeShare;
+  EXPECT_EQ(auto_ratio_shape(0.0, 0.0).ratio(), std::ldexp(1.0, int(std::lround(std::log2(f / (1.0 - f))))));
 }
 
 }  // namespace
