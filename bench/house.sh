@@ -42,8 +42,8 @@ work = f"{s['spp']} spp" + (f" + {s['iterations']} it" if s.get("iterations") el
 if "ratio_auto" in s:
     c = s["ratio"]
     work += f" (c = {c:g})" if c >= 1 else f" (c = 1/{1 / c:g})"
-mean_dev = " / ".join(f"{100 * b:+.1f} %" for b in bias)
-print(f"| {label} | {work} | {statistics.median(rel):.4f} | {' / '.join(f'{x:.4f}' for x in rel)} | {mean_dev} |")
+mean_dev = " / ".join(f"{100 * b:+.2f} %" for b in bias)
+print(f"| {label} | {work} | {statistics.median(rel):.3g} | {' / '.join(f'{x:.3g}' for x in rel)} | {mean_dev} |")
 PY
 }
 echo "| method, ${size}, ${seconds} s | work done (seed 1) | relMSE (median) | relMSE per seed | image mean vs reference |"
