@@ -33,7 +33,9 @@ CombinedWeights combined_weights(std::uint32_t mode, const RoundShape& shape);
 // --ratio auto (DESIGN.md §3, "The ratio c"): the share of the render time PT gets. Measured side by
 // side on this 2-core machine (README, issue #12): cornell-glossy at 128x128, 20 s, is best near
 // c = 1/4 (PT about 0.56 of the time; c = 1/16, PT about 0.3, was 1.4x worse), the Lambert house at
-// 640x360, 30 s, near 1/4 to 1/8 (0.5 to 0.3): 0.5 picks 1/4 on both. bench/ratio.sh prints, per scene
+// 640x360, 30 s, near 1/4 to 1/8 (0.5 to 0.3): 0.5 picks 1/4 on both. (0.65 picks 1/2 on both:
+// cornell-glossy 0.00035 / 0.00037 against 0.00037 / 0.00041, but the house 0.0028 / 0.0050 with an
+// image mean 2.3 % off in one seed, against 0.0023 / 0.0038 within 1.3 %: fewer RB iterations.) bench/ratio.sh prints, per scene
 // and resolution, the share that would have picked the best fixed ratio. `render --help`
 // (cli/options.cpp) quotes these three constants.
 constexpr double kAutoRatioPtTimeShare = 0.5;
