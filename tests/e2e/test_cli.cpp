@@ -216,6 +216,8 @@ TEST(Cli, CombinedModeOptionErrors) {
       {"--mode combined --ratio -1/4", "--ratio", 2},
       {"--mode combined --ratio Auto", "--ratio", 2},
       {"--mode combined --weights heavy", "--weights", 2},
+      {"--mode combined --eye-direct both", "--eye-direct", 2},
+      {"--mode combined --light-selection nearest", "--light-selection", 2},
       {"--mode combined --spp 4 --iterations 4", "not both", 2},
       {"--mode combined --layers some", "--layers", 2},
       {"--mode combined --spp 1 --reference " + dir + "/missing.exr", "missing.exr", 1},
@@ -226,6 +228,24 @@ TEST(Cli, CombinedModeOptionErrors) {
     EXPECT_NE(r.output.find(c.needle), std::string::npos) << c.args << "\n" << r.output;
   }
   EXPECT_FALSE(fs::exists(dir + "/x.exr")) << "no output for a run that never started";
+}
+
+// --eye-direct auto (the default): the eye vertex's direct light is shared with RB when the render
+// gives each pixel fewer than kEyeDirectSharedBelowSpp PT samples, PT's alone from there on; an
+// explicit choice is kept whatever the budget.
+TEST(Cli, EyeDirectAutoFollowsThePtSampleBudget) {
+  std::string dir = fresh_dir("eye_direct_auto");
+  auto eye_direct = [&](const std::string& args) {
+    CliResult r = run_cli("render " + kScenes + "cornell-box.gltf --width 8 --height 8 --mode combined " + args +
+                          " --stats " + dir + "/s.json --out " + dir + "/x");
+    EXPECT_EQ(r.exit_code, 0) << args << "\n" << r.output;
+    return nlohmann::json::parse(std::ifstream(dir + "/s.json"))["eye_direct"].get<std::string>();
+  };
+  EXPECT_EQ(eye_direct("--ratio 4 --spp 8"), "shared");
+  EXPECT_EQ(eye_direct("--ratio 4 --spp 256"), "pt");
+  EXPECT_EQ(eye_direct("--ratio 4 --iterations 16"), "shared");  // 64 spp
+  EXPECT_EQ(eye_direct("--ratio 4 --spp 256 --eye-direct shared"), "shared");
+  EXPECT_EQ(eye_direct("--ratio 4 --spp 8 --eye-direct pt"), "pt");
 }
 
 TEST(Cli, UnknownDeviceIsAnErrorListingDevices) {
