@@ -157,9 +157,16 @@ int run_render(const RenderOptions& o) {
 
   DeviceContext device(select_device(o.device));
   // The light tree and its per-patch receivers only where light sampling acts (power needs neither).
+  const bool light_tree = light_sampling_applies(o) && o.light_selection == "tree";
+  // One receiver per patch: refused before anything is built when it cannot fit the device.
+  const std::size_t receiver_bytes = light_tree ? patches.patch_count * sizeof(LightReceiver) : 0;
+  if (receiver_bytes > device.info.max_alloc_bytes || receiver_bytes > device.info.global_memory_bytes / 4)
+    throw UsageError("the light tree needs " + std::to_string(receiver_bytes >> 20) + " MiB for its " +
+                     std::to_string(patches.patch_count) + " receiving patches, more than " + device.info.device_name +
+                     " offers (at most " + std::to_string(device.info.max_alloc_bytes >> 20) +
+                     " MiB per buffer): raise --patch-size or use --light-selection power");
   DeviceScene device_scene(device, scene, patches, bvh,
-                           light_sampling_applies(o) && o.light_selection == "tree" ? BP_LIGHT_SELECTION_TREE
-                                                                                    : BP_LIGHT_SELECTION_POWER);
+                           light_tree ? BP_LIGHT_SELECTION_TREE : BP_LIGHT_SELECTION_POWER);
   const CameraParams camera = pack_camera(scene.camera, width, height);
   const bool light_sampling = light_sampling_applies(o) && device_scene.light_count > 0;
   const float light_rate =

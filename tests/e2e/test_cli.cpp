@@ -57,6 +57,14 @@ TEST(Cli, RayBundleRunThatCannotFitIsRefusedBeforeAllocating) {
   }
 }
 
+// The light tree's per-patch receivers (24 GiB at this patch size) are refused before anything is
+// built, naming what to change; power selection needs none.
+TEST(Cli, LightTreeThatCannotFitIsRefusedBeforeAllocating) {
+  CliResult r = run_cli("render " + kScenes + "cornell-box.gltf --mode pt --spp 1 --width 8 --patch-size 0.0001");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("raise --patch-size or use --light-selection power"), std::string::npos) << r.output;
+}
+
 TEST(Cli, ModeSpecificCountsAreChecked) {
   CliResult r = run_cli("render " + kScenes + "cornell-box.gltf --mode rb --spp 4");
   EXPECT_EQ(r.exit_code, 2);
