@@ -57,7 +57,11 @@ bench_require_gnuplot() {
 }
 
 bench_has_flag() {
-  "$BUNDLEPATH" render --help 2>&1 | grep -q -- "$1\b"
+  # The help is read whole before grep looks: `render --help | grep -q` under pipefail failed at
+  # random, when grep stopped reading at the first match and the renderer died of SIGPIPE.
+  local help
+  help=$("$BUNDLEPATH" render --help 2>&1) || return 1
+  grep -q -- "$1\b" <<< "$help"
 }
 
 # A short tag of a scene file's contents, so a changed scene never reuses a stale reference.
