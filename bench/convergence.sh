@@ -23,14 +23,8 @@ here=$(cd "$(dirname "$0")" && pwd)
 # shellcheck source=bench/lib.sh
 source "$here/lib.sh"
 
-# The scenes: name (scenes/NAME.gltf, or rooms-N = procedural rooms of N triangles) and the
-# reference's samples per pixel for the full study.
-SCENES=(
-  "cornell-box 16384"
-  "cornell-glossy 16384"
-  "rooms-100000 8192"
-  "rooms-lambert-100000 8192"
-)
+# The scenes and their references' spp at 128x128 (bench/lib.sh, shared with bench/ratio.sh).
+SCENES=("${BENCH_STUDY_SCENES[@]}")
 # The modes: label | renderer flags. Add a line to add a mode. A line naming a flag that
 # `bundlepath render --help` does not know is skipped with a note (so rows for features that are
 # still being written can sit here).

@@ -23,6 +23,16 @@
 # bench_require_gnuplot SCRIPT     -> exits 2 naming SCRIPT when gnuplot is missing
 
 bench_root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+# The scenes of the convergence study and the ratio sweep: name (scenes/NAME.gltf, rooms-N or
+# rooms-lambert-N = procedural rooms of N triangles) and the reference's spp at 128x128
+# (bench_reference_spp scales it to other sizes).
+# shellcheck disable=SC2034  # used by the scripts that source this file
+BENCH_STUDY_SCENES=(
+  "cornell-box 16384"
+  "cornell-glossy 16384"
+  "rooms-100000 8192"
+  "rooms-lambert-100000 8192"
+)
 BUNDLEPATH=${BUNDLEPATH:-$bench_root/build/bundlepath}
 case $BUNDLEPATH in /*) ;; *) BUNDLEPATH=$PWD/$BUNDLEPATH ;; esac
 BENCH_BUILD_DIR=${BENCH_BUILD_DIR:-$(dirname "$BUNDLEPATH")}

@@ -21,14 +21,8 @@ here=$(cd "$(dirname "$0")" && pwd)
 # shellcheck source=bench/lib.sh
 source "$here/lib.sh"
 
-# Scene and its reference's spp at 128x128 (bench_reference_spp scales it to other sizes), as in
-# bench/convergence.sh, so both studies share the cached references.
-SCENES=(
-  "cornell-box 16384"
-  "cornell-glossy 16384"
-  "rooms-100000 8192"
-  "rooms-lambert-100000 8192"
-)
+# The scenes of bench/convergence.sh (bench/lib.sh), so both studies share the cached references.
+SCENES=("${BENCH_STUDY_SCENES[@]}")
 BASE_FLAGS="--mode combined --weights product"
 
 quick=0; repeats=1; out=""; budgets="4 16"; resolutions="128x128,640x360,1280x720"; plots=1
