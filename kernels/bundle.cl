@@ -440,11 +440,11 @@ __kernel void rb_vertex(__global const uint* vertex_patch_start, __global const 
   }
 }
 
-// One interpolated value at an eye hit: the patch's own (`flat`) or interpolated from its corners'
-// `slot` (Gouraud).
-static float4 eye_irradiance(const EyeHit* h, float4 flat, __global const uint* patch_vertices,
+// One interpolated value at an eye hit: the patch's own (*flat) or interpolated from its corners'
+// `slot` (Gouraud; *flat is then not read).
+static float4 eye_irradiance(const EyeHit* h, __global const float4* flat, __global const uint* patch_vertices,
                              __global const float4* e_vertex, uint gouraud, uint slots, uint slot) {
-  if (!gouraud) return flat;
+  if (!gouraud) return *flat;
   __global const uint* pv = &patch_vertices[3 * h->patch];
   return e_vertex[pv[0] * slots + slot] * (1.0f - h->l1 - h->l2) + e_vertex[pv[1] * slots + slot] * h->l1 +
          e_vertex[pv[2] * slots + slot] * h->l2;
@@ -470,7 +470,7 @@ __kernel void rb_eye(__global const EyeHit* hits, __global const BundleElement* 
   BsdfValue v = bsdf_evaluate(&bsdf, n, wi, wo);
   float3 transfer = v.f * BP_TWO_PI;
   const uint slots = eye_slots(&it);
-  float4 e0 = eye_irradiance(&h, e_in[h.patch * it.chains], patch_vertices, e_vertex, gouraud, slots, 0u);
+  float4 e0 = eye_irradiance(&h, &e_in[h.patch * it.chains], patch_vertices, e_vertex, gouraud, slots, 0u);
   float3 reflected0 = transfer * make_float3(e0.x, e0.y, e0.z);
   float3 weighted;
   if (it.weight_mode == BP_WEIGHTS_PRODUCT) {
@@ -483,9 +483,9 @@ __kernel void rb_eye(__global const EyeHit* hits, __global const BundleElement* 
       // as RB's techniques of its last segment (no beta: that vertex is the segment's start).
       // The light samples' irradiance is interpolated like the chains; it is reflected along the hit
       // patch's own sample direction (exact for Lambert eye vertices, a patch-level stand-in otherwise).
-      float4 ed = eye_irradiance(&h, e_in[h.patch * it.chains + it.eye_direct_chain], patch_vertices, e_vertex,
+      float4 ed = eye_irradiance(&h, &e_in[h.patch * it.chains + it.eye_direct_chain], patch_vertices, e_vertex,
                                  gouraud, slots, it.eye_direct_chain);
-      float4 el = eye_irradiance(&h, eye_light[2 * h.patch], patch_vertices, e_vertex, gouraud, slots, it.chains);
+      float4 el = eye_irradiance(&h, &eye_light[2 * h.patch], patch_vertices, e_vertex, gouraud, slots, it.chains);
       float4 el_dir = eye_light[2 * h.patch + 1];
       weighted += transfer * make_float3(ed.x, ed.y, ed.z);
       if (el.x + el.y + el.z > 0.0f)
@@ -502,7 +502,7 @@ __kernel void rb_eye(__global const EyeHit* hits, __global const BundleElement* 
   if (it.eye_outputs > 1) {
     float3 raw = bsdf.emission + reflected0;
     if (it.weight_mode == BP_WEIGHTS_PRODUCT) {
-      float4 e1 = eye_irradiance(&h, e_in[h.patch * it.chains + it.chains - 1u], patch_vertices, e_vertex, gouraud,
+      float4 e1 = eye_irradiance(&h, &e_in[h.patch * it.chains + it.chains - 1u], patch_vertices, e_vertex, gouraud,
                                  slots, it.chains - 1u);
       raw = bsdf.emission + transfer * make_float3(e1.x, e1.y, e1.z);
     }
