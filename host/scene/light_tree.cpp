@@ -1,5 +1,4 @@
 #include "scene/light_tree.h"
-#include "kernels/shared/patch.h"
 
 #include <algorithm>
 #include <array>
@@ -274,39 +273,30 @@ std::vector<LightTreeNode> build_light_tree(LightList& lights, const Scene& scen
 std::vector<LightReceiver> build_light_receivers(const Scene& scene, const PatchLayout& patches,
                                                  const LightList& lights, float offset) {
   std::vector<LightReceiver> out(patches.patch_count);
-  for (std::size_t t = 0; t < scene.triangles.size(); ++t) {
-    const SceneTriangle& tri = scene.triangles[t];
-    const std::uint32_t k = patches.subdiv[t], k2 = k * k;
-    const bool double_sided = scene.materials[tri.material].double_sided;
-    const glm::vec3 e1 = tri.p[1] - tri.p[0], e2 = tri.p[2] - tri.p[0];
-    glm::vec3 n = glm::cross(e1, e2);
-    const float len = glm::length(n);
-    n = len > 0.0f ? n / len : glm::vec3(0.0f, 0.0f, 1.0f);
-    const std::uint32_t light = lights.light_of_triangle.empty() ? BP_NO_LIGHT : lights.light_of_triangle[t];
-    for (std::uint32_t local = 0; local < k2; ++local) {
-      float b1[3], b2[3];
-      patch_corner_barycentrics(local, k, b1, b2);
-      glm::dvec3 c[3], centroid(0.0);
-      for (int i = 0; i < 3; ++i) {
-        c[i] = glm::dvec3(tri.p[0]) + double(b1[i]) * glm::dvec3(e1) + double(b2[i]) * glm::dvec3(e2);
-        centroid += c[i] / 3.0;
-      }
-      double radius = 0.0;
-      for (int i = 0; i < 3; ++i) radius = std::max(radius, glm::length(c[i] - centroid));
-      // Grown for the float rounding of hit points and patch indices, and the rays' offset.
-      const float r = float(radius * 1.001 + 1e-6 * glm::length(centroid)) + 4.0f * offset;
-      for (std::uint32_t side = 0; side < (double_sided ? 2u : 1u); ++side) {
-        LightReceiver& rec = out[patches.first_patch[t] + side * k2 + local];
-        rec = LightReceiver{};
-        for (int i = 0; i < 3; ++i) {
-          rec.centroid[i] = float(centroid[i]);
-          rec.normal[i] = side == 0 ? n[i] : -n[i];
-        }
-        rec.radius = r;
-        rec.light = light;
-      }
+  for_each_sub_triangle(scene, patches, [&](const SubTriangle& sub) {
+    const SceneTriangle& tri = scene.triangles[sub.triangle];
+    const std::uint32_t light =
+        lights.light_of_triangle.empty() ? BP_NO_LIGHT : lights.light_of_triangle[sub.triangle];
+    glm::dvec3 c[3], centroid(0.0);
+    for (int i = 0; i < 3; ++i) {
+      c[i] = glm::dvec3(tri.p[0]) + double(sub.b1[i]) * glm::dvec3(sub.e1) + double(sub.b2[i]) * glm::dvec3(sub.e2);
+      centroid += c[i] / 3.0;
     }
-  }
+    double radius = 0.0;
+    for (int i = 0; i < 3; ++i) radius = std::max(radius, glm::length(c[i] - centroid));
+    // Grown for the float rounding of hit points and patch indices, and the rays' offset.
+    const float r = float(radius * 1.001 + 1e-6 * glm::length(centroid)) + 4.0f * offset;
+    for (std::uint32_t side = 0; side < (sub.double_sided ? 2u : 1u); ++side) {
+      LightReceiver& rec = out[patches.first_patch[sub.triangle] + side * sub.k2 + sub.local];
+      rec = LightReceiver{};
+      for (int i = 0; i < 3; ++i) {
+        rec.centroid[i] = float(centroid[i]);
+        rec.normal[i] = side == 0 ? sub.normal[i] : -sub.normal[i];
+      }
+      rec.radius = r;
+      rec.light = light;
+    }
+  });
   return out;
 }
 

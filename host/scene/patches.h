@@ -2,6 +2,7 @@
 // with k chosen so that every sub-triangle edge is at most the target patch size.
 #pragma once
 #include "scene/scene.h"
+#include "kernels/shared/patch.h"
 #include <cstdint>
 #include <vector>
 
@@ -24,5 +25,38 @@ float default_patch_size(const Scene& scene);
 // Throws std::invalid_argument if target_size is not positive and finite, or the patch count
 // would exceed 2^31 (the message names --patch-size).
 PatchLayout build_patch_layout(const Scene& scene, float target_size);
+
+// One patch-level sub-triangle of a scene triangle, as the host-side builders (RB's elements, the
+// light tree's receivers) walk them: corner c is parent.p[0] + b1[c] e1 + b2[c] e2.
+struct SubTriangle {
+  std::size_t triangle;        // index into scene.triangles
+  std::uint32_t local;         // 0 .. k^2 - 1 (kernels/shared/patch.h)
+  std::uint32_t k2;            // sub-triangles of the parent
+  float b1[3], b2[3];          // the corners' barycentrics
+  glm::vec3 e1, e2;            // the parent's edges p1 - p0, p2 - p0
+  glm::vec3 normal;            // the parent's flat unit normal (front side)
+  float parent_area2;          // |e1 x e2|: twice the parent's area, m^2
+  bool double_sided;           // a back patch at first_patch + k^2 + local beside the front one
+};
+
+// Calls visit(const SubTriangle&) for every sub-triangle, triangle by triangle in patch order.
+template <class Visit> void for_each_sub_triangle(const Scene& scene, const PatchLayout& patches, Visit&& visit) {
+  for (std::size_t t = 0; t < scene.triangles.size(); ++t) {
+    const SceneTriangle& tri = scene.triangles[t];
+    SubTriangle sub{};
+    sub.triangle = t;
+    sub.k2 = patches.subdiv[t] * patches.subdiv[t];
+    sub.double_sided = scene.materials[tri.material].double_sided;
+    sub.e1 = tri.p[1] - tri.p[0];
+    sub.e2 = tri.p[2] - tri.p[0];
+    const glm::vec3 n = glm::cross(sub.e1, sub.e2);
+    sub.parent_area2 = glm::length(n);
+    sub.normal = sub.parent_area2 > 0.0f ? n / sub.parent_area2 : glm::vec3(0.0f, 0.0f, 1.0f);
+    for (sub.local = 0; sub.local < sub.k2; ++sub.local) {
+      patch_corner_barycentrics(sub.local, patches.subdiv[t], sub.b1, sub.b2);
+      visit(static_cast<const SubTriangle&>(sub));
+    }
+  }
+}
 
 }  // namespace bp
