@@ -16,6 +16,7 @@
 
 #define BP_BACK_SIDE 0x80000000u
 #define BP_NO_SENDER (-3.0e38f)  // .w of radiance that came from no patch (below any ln P)
+#define BP_CONTACT (-3.2e38f)    // .w of a fragment covered by one it touches: it receives nothing, and is not counted
 
 // Normal of a patch (its element's normal, flipped for a back side).
 static float3 patch_normal(__global const BundleElement* elements, uint patch_element) {
@@ -305,9 +306,12 @@ __kernel void rb_tile_resolve(__global const BundleElement* elements, __global c
       uint fragment = tile_order[a], element = tiled_element[fragment];
       float depth = tiled_depth[fragment];
       float3 n = bp_load3(elements[element].normal);
+      const int touches_sender = a > first && depth - sender_depth < it.contact_depth;
       for (uint c = 0; c < chains; ++c) {
         float4 r = nothing;
-        if (sender != BP_NO_PATCH && (c == direct || c == eye) && minus_patch != BP_NO_PATCH)
+        if (touches_sender)
+          r.w = BP_CONTACT;
+        else if (sender != BP_NO_PATCH && (c == direct || c == eye) && minus_patch != BP_NO_PATCH)
           r = rb_direct_received(elements, materials, sender_element, element, facing(-omega, n), omega,
                                  depth - sender_depth, c == eye, &it, &light_set_, sender, minus_patch);
         else if (sender != BP_NO_PATCH && c != direct && c != eye)
@@ -327,9 +331,12 @@ __kernel void rb_tile_resolve(__global const BundleElement* elements, __global c
         sides_along(&elements[next_element], omega, &minus_patch, &plus_patch);
         next_minus = minus_patch;
       }
+      const int touches_next = a + 1 < last && next_depth - depth < it.contact_depth;
       for (uint c = 0; c < chains; ++c) {
         float4 r = nothing;
-        if (next_minus != BP_NO_PATCH && (c == direct || c == eye) && own_plus != BP_NO_PATCH)
+        if (touches_next)
+          r.w = BP_CONTACT;
+        else if (next_minus != BP_NO_PATCH && (c == direct || c == eye) && own_plus != BP_NO_PATCH)
           r = rb_direct_received(elements, materials, next_element, element, facing(omega, n), -omega,
                                  next_depth - depth, c == eye, &it, &light_set_, next_minus, own_plus);
         else if (next_minus != BP_NO_PATCH && c != direct && c != eye)
@@ -347,15 +354,20 @@ static float4 gather_chain(__global const float4* received, __global const uint*
                            uint chains, uint c, float scale, int with_p) {
   float3 sum = make_float3(0.0f, 0.0f, 0.0f);
   float log_p_sum = BP_LOG_ZERO, senders = 0.0f;
+  uint open = 0u;
   for (uint s = begin; s < end; ++s) {
     float4 r = received[tiled_at[s] * chains + c];
+    if (r.w == BP_CONTACT) continue;
+    ++open;
     sum += make_float3(r.x, r.y, r.z);
     if (with_p && r.w > BP_NO_SENDER) {
       log_p_sum = log_add_exp(log_p_sum, r.w);  // log-sum-exp: P passes 1e38 on long glossy paths
       senders += 1.0f;
     }
   }
-  sum *= scale;
+  // The mean over the fragments nothing touches stands for the whole element's: the part covered by a
+  // touching surface is never seen, so it must not darken the rest.
+  sum *= open > 0u ? scale * (float)(end - begin) / (float)open : 0.0f;
   return (float4)(sum.x, sum.y, sum.z, senders > 0.0f ? log_p_sum - log(senders) : 0.0f);
 }
 

@@ -79,8 +79,10 @@ options (defaults in brackets):
                       1.5 s, and at least one RB iteration; not counted in --time, its
                       samples are discarded) measures PT's cost per sample (on the same view
                       at about 128x128 pixels, scaled) and RB's per iteration, and picks c,
-                      a power of 2, so that PT gets about 50 % of the time; --spp or
-                      --iterations then fixes the other count from that c. The chosen c is
+                      a power of 2, so that PT gets about 50 % of the time (65 % where
+                      the eye vertex's direct light is PT's alone: --eye-direct pt, or auto
+                      resolved to pt); --spp or --iterations then fixes the other count
+                      from that c. The chosen c is
                       printed and in --stats; give it as --ratio for a reproducible image.
                       --resume reuses the saved c
   --no-light-sampling turn light sampling off: emitters are then reached by BSDF sampling (pt)

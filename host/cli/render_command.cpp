@@ -233,18 +233,12 @@ int run_render(const RenderOptions& o) {
       Accumulator probe_accum(size.width, size.height, false);
       PathTracerPass probe_pt(device, device_scene, pack_camera(scene.camera, size.width, size.height), pt_settings,
                               probe_accum);
+      // The share for the eye-direct choice known now (auto counts as shared until it is resolved).
       probe = probe_ratio(probe_pt, std::size_t(width) * height, *rb, rb_accum,
-                          RatioProbeBudget{o.seconds, o.spp, o.iterations});
+                          RatioProbeBudget{o.seconds, o.spp, o.iterations,
+                                           auto_ratio_pt_time_share(light_sampling && !eye_direct_shared)});
       shape = probe->chosen;
-      std::fprintf(stderr,
-                   "bundlepath: --ratio auto: c = %s (PT %.4g s per sample per pixel, RB %.4g s per iteration, PT "
-                   "time share %.2f; probe %.2f s)\n",
-                   ratio_text(*shape).c_str(), probe->pt_seconds_per_spp, probe->rb_seconds_per_iteration,
-                   kAutoRatioPtTimeShare, probe->probe_seconds);
     }
-    ratio_n2_over_n1 = combined_weights(weight_mode, *shape).ratio_n2_over_n1;
-    pt->set_weight_ratio(ratio_n2_over_n1);
-    rb->set_weight_ratio(ratio_n2_over_n1);
   }
   // --eye-direct auto: shared below kEyeDirectSharedBelowSpp PT samples per pixel (a --time budget
   // needs the probe's costs: probed here when --ratio did not probe already), or what a resumed
@@ -270,12 +264,27 @@ int run_render(const RenderOptions& o) {
       std::fprintf(stderr, "bundlepath: --eye-direct auto: %s (about %.0f PT samples per pixel)\n",
                    eye_direct_shared ? "shared" : "pt", spp);
     }
+    if (!eye_direct_shared && probe) {  // PT's alone: the ratio for that share (kAutoRatioPtTimeShareEyePt)
+      probe->pt_time_share = auto_ratio_pt_time_share(true);
+      probe->chosen = auto_ratio_shape(probe->pt_seconds_per_spp, probe->rb_seconds_per_iteration, probe->pt_time_share);
+      shape = probe->chosen;
+    }
     if (!eye_direct_shared) {
       pt->set_eye_direct_shared(false);
       rb_settings.eye_direct_shared = false;
-      rb_settings.weight_ratio = ratio_n2_over_n1;
       rb = std::make_unique<RayBundlePass>(device, device_scene, *geometry, camera, rb_settings, rb_accum);
     }
+  }
+  if (probe)
+    std::fprintf(stderr,
+                 "bundlepath: --ratio auto: c = %s (PT %.4g s per sample per pixel, RB %.4g s per iteration, PT "
+                 "time share %.2f; probe %.2f s)\n",
+                 ratio_text(*shape).c_str(), probe->pt_seconds_per_spp, probe->rb_seconds_per_iteration,
+                 probe->pt_time_share, probe->probe_seconds);
+  if (ratio_is_auto(o)) {  // both passes get the chosen c's weights before the first counted sample
+    ratio_n2_over_n1 = combined_weights(weight_mode, *shape).ratio_n2_over_n1;
+    pt->set_weight_ratio(ratio_n2_over_n1);
+    rb->set_weight_ratio(ratio_n2_over_n1);
   }
   // A resumed render starts from the checkpoint's accumulators, ray-bundle state and round count.
   std::uint64_t first_round = 0;
@@ -438,7 +447,7 @@ int run_render(const RenderOptions& o) {
         stats["ratio_auto"] = {{"chosen", shape->ratio()},
                                {"pt_seconds_per_spp", probe->pt_seconds_per_spp},
                                {"rb_seconds_per_iteration", probe->rb_seconds_per_iteration},
-                               {"pt_time_share", kAutoRatioPtTimeShare},
+                               {"pt_time_share", probe->pt_time_share},
                                {"probe_pt_samples", probe->pt_samples},
                                {"probe_pt_size", std::to_string(probe->pt_image.width) + "x" +
                                                      std::to_string(probe->pt_image.height)},

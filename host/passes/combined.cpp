@@ -31,8 +31,12 @@ CombinedWeights combined_weights(std::uint32_t mode, const RoundShape& shape) {
 // choice, and an integer or its inverse is what round_shape makes a round of. It is clamped to
 // [1/1024, 64]: past that a round (the unit a --time budget stops at) grows long for a pass that
 // gets little of the time anyway.
-RoundShape auto_ratio_shape(double pt_seconds_per_spp, double rb_seconds_per_iteration) {
-  const double f = kAutoRatioPtTimeShare;
+double auto_ratio_pt_time_share(bool eye_direct_pt_alone) {
+  return eye_direct_pt_alone ? kAutoRatioPtTimeShareEyePt : kAutoRatioPtTimeShareEyeShared;
+}
+
+RoundShape auto_ratio_shape(double pt_seconds_per_spp, double rb_seconds_per_iteration, double pt_time_share) {
+  const double f = pt_time_share;
   const double t_pt = std::max(pt_seconds_per_spp, 1e-9), t_rb = std::max(rb_seconds_per_iteration, 1e-9);
   const double c = f / (1.0 - f) * t_rb / t_pt;
   const int log2_c = std::clamp(int(std::lround(std::log2(c))), -10, 6);
@@ -104,7 +108,7 @@ RatioProbe probe_ratio(PathTracerPass& probe_pt, std::size_t pixels, RayBundlePa
   // The probe's size: a share of the render's time, estimated from these two when only a count is given.
   double render_seconds = budget.seconds > 0.0 ? budget.seconds : 1e30;
   if (budget.spp || budget.iterations) {
-    const RoundShape first_guess = auto_ratio_shape(pt_seconds * pt_scale, rb_seconds);
+    const RoundShape first_guess = auto_ratio_shape(pt_seconds * pt_scale, rb_seconds, budget.pt_time_share);
     const double rounds = budget.spp ? std::ceil(double(budget.spp) / first_guess.pt_samples)
                                      : std::ceil(double(budget.iterations) / first_guess.rb_iterations);
     render_seconds = std::min(render_seconds, rounds * (first_guess.pt_samples * pt_seconds * pt_scale +
@@ -122,7 +126,8 @@ RatioProbe probe_ratio(PathTracerPass& probe_pt, std::size_t pixels, RayBundlePa
   probe.pt_samples = std::uint32_t(pt_count);
   probe.rb_iterations = std::uint32_t(rb_count);
   probe.pt_image = ProbeImageSize{int(probe_pt.pixel_width()), int(probe_pt.pixel_height())};
-  probe.chosen = auto_ratio_shape(probe.pt_seconds_per_spp, probe.rb_seconds_per_iteration);
+  probe.pt_time_share = budget.pt_time_share;
+  probe.chosen = auto_ratio_shape(probe.pt_seconds_per_spp, probe.rb_seconds_per_iteration, budget.pt_time_share);
   probe.probe_seconds = seconds_since(start);
   probe.first_launch_seconds = first_launch_seconds;
   return probe;

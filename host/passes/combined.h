@@ -30,15 +30,20 @@ struct CombinedWeights {
 };
 CombinedWeights combined_weights(std::uint32_t mode, const RoundShape& shape);
 
-// --ratio auto (DESIGN.md §3, "The ratio c"): the share of the render time PT gets. Measured side by
-// side on this 2-core machine (README, issue #12): cornell-glossy at 128x128, 20 s, is best near
-// c = 1/4 (PT about 0.56 of the time; c = 1/16, PT about 0.3, was 1.4x worse), the Lambert house at
-// 640x360, 30 s, near 1/4 to 1/8 (0.5 to 0.3): 0.5 picks 1/4 on both. (0.65 picks 1/2 on both:
-// cornell-glossy 0.00035 / 0.00037 against 0.00037 / 0.00041, but the house 0.0028 / 0.0050 with an
-// image mean 2.3 % off in one seed, against 0.0023 / 0.0038 within 1.3 %: fewer RB iterations.) bench/ratio.sh prints, per scene
-// and resolution, the share that would have picked the best fixed ratio. `render --help`
-// (cli/options.cpp) quotes these three constants.
-constexpr double kAutoRatioPtTimeShare = 0.5;
+// --ratio auto (DESIGN.md §3, "The ratio c"): the share of the render time PT gets. It depends on who
+// estimates the eye vertex's direct light. Where it is PT's alone (--eye-direct pt, chosen by auto at
+// many PT samples per pixel) PT's variance holds a part RB cannot take, and the split that minimises
+// A / f + B / (1 - f) (A, B: the PT and RB parts' variance at equal time) is f = √A / (√A + √B):
+// measured on cornell-glossy at 128x128 (README, issue #12; equal-work runs, 4 seeds) A : B ≈ 3.2 : 1,
+// so f ≈ 0.64, and at 20 s c = 1/2 (0.65) gave 0.00035 / 0.00037 against 0.00037 / 0.00041 at c = 1/4
+// (0.5). Where it is shared (few PT samples: the Lambert house at 640x360, 30 s) 0.65 picked 1/2 too
+// and cost the house (0.0028 / 0.0050, one image mean 2.3 % off, against 0.0023 / 0.0038 at 1/4):
+// RB's share there is large. bench/ratio.sh prints, per scene and resolution, the share that would
+// have picked the best fixed ratio. `render --help` (cli/options.cpp) quotes these constants.
+constexpr double kAutoRatioPtTimeShareEyeShared = 0.5;
+constexpr double kAutoRatioPtTimeShareEyePt = 0.65;
+// The share for a render whose eye vertex's direct light is PT's alone (or not).
+double auto_ratio_pt_time_share(bool eye_direct_pt_alone);
 // The probe's timed work: this share of the render's time (--time, or the time --spp / --iterations
 // would take, estimated from one sample and one iteration), at most kAutoRatioProbeCapSeconds.
 constexpr double kAutoRatioProbeShare = 0.02;
@@ -46,7 +51,7 @@ constexpr double kAutoRatioProbeCapSeconds = 1.5;
 
 // The round --ratio auto renders with, from the measured costs: seconds per PT sample per pixel
 // (whole image) and per RB iteration (eye estimate included). See combined.cpp for the derivation.
-RoundShape auto_ratio_shape(double pt_seconds_per_spp, double rb_seconds_per_iteration);
+RoundShape auto_ratio_shape(double pt_seconds_per_spp, double rb_seconds_per_iteration, double pt_time_share);
 
 // PT's probe image: the render's view at about kAutoRatioProbePixels pixels (its own size if
 // smaller), same aspect. A PT sample's cost per pixel has the same distribution over the view at any
@@ -75,7 +80,8 @@ double expected_pt_spp(const RoundShape& shape, std::uint64_t spp, std::uint64_t
                        double pt_seconds_per_spp, double rb_seconds_per_iteration);
 
 struct RatioProbe {
-  RoundShape chosen;
+  RoundShape chosen;                                // at pt_time_share
+  double pt_time_share = 0.0;
   double pt_seconds_per_spp = 0.0;
   double rb_seconds_per_iteration = 0.0;
   std::uint32_t pt_samples = 0, rb_iterations = 0;  // the timed ones (plus one untimed RB iteration)
@@ -89,6 +95,7 @@ struct RatioProbe {
 struct RatioProbeBudget {
   double seconds = 0.0;
   std::uint64_t spp = 0, iterations = 0;
+  double pt_time_share = kAutoRatioPtTimeShareEyeShared;  // what the round is chosen for
 };
 
 // Times PT on `probe_pt` (a pass of its own, at probe_image_size, with the render's settings) and RB

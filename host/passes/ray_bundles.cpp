@@ -227,6 +227,7 @@ BundleIteration RayBundlePass::iteration_params(std::uint64_t iteration) const {
   it.light_count = samples_lights(settings_) ? scene_.light_count : 0u;
   it.direct_chain = samples_lights(settings_) ? 1u : 0u;
   it.eye_direct_chain = shares_eye_direct(settings_) ? 2u : 0u;
+  it.contact_depth = settings_.contact_depth_fraction * 2.0f * radius_;
   return it;
 }
 

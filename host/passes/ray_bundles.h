@@ -18,6 +18,13 @@ namespace bp {
 // than the memory). Larger scenes read the count back and grow the buffers when needed.
 constexpr std::size_t kStaticTiledBytes = std::size_t(64) << 20;
 
+// Touching surfaces (README, "Ray-bundle discretisation"): two consecutive fragments of a bin closer
+// than this fraction of the scene's bounding diameter along omega exchange nothing, and a patch's
+// incoming radiance is the mean over its other fragments. A patch partly covered by what rests on it
+// (a box on a floor, the Cornell light 0.1 mm under its ceiling) then reflects what its visible part
+// receives, instead of a mean that the covered part darkens and the eye's interpolation spreads.
+constexpr float kContactDepthFraction = 1e-3f;
+
 struct RayBundleSettings {
   std::uint32_t seed = 1;
   std::uint32_t bins = 0;             // R: bins per side of the transillumination buffer; 0 = default_bins
@@ -35,6 +42,7 @@ struct RayBundleSettings {
                                       // (--eye-direct shared; a chain and a light-sample buffer more)
   std::string kernel_options;         // feature switches (device/kernel_features.h); empty: generic
   std::size_t static_tiled_bytes = kStaticTiledBytes;
+  float contact_depth_fraction = kContactDepthFraction;  // 0: touching surfaces exchange radiance too
 };
 
 // Bins per side so that an element of average area covers `bins_per_element` bins on average

@@ -36,7 +36,7 @@ RenderRun render_pt(const Scene& scene, int width, int height, std::uint64_t spp
 
 std::unique_ptr<BundleRig> make_bundle_rig(const Scene& scene, float patch_size, std::uint32_t bins,
                                            std::uint32_t seed, int width, int height, std::uint32_t warmup,
-                                           std::size_t static_tiled_bytes) {
+                                           std::size_t static_tiled_bytes, float contact_depth_fraction) {
   auto rig = std::make_unique<BundleRig>();
   rig->scene = scene;
   rig->patches = build_patch_layout(rig->scene, patch_size);
@@ -48,6 +48,7 @@ std::unique_ptr<BundleRig> make_bundle_rig(const Scene& scene, float patch_size,
   settings.bins = bins;
   settings.warmup = warmup;
   settings.static_tiled_bytes = static_tiled_bytes;
+  settings.contact_depth_fraction = contact_depth_fraction;
   rig->accum = Accumulator(width, height);
   rig->pass = std::make_unique<RayBundlePass>(test_device(), *rig->device_scene, rig->geometry,
                                               pack_camera(rig->scene.camera, width, height), settings, rig->accum);

@@ -38,7 +38,8 @@ struct BundleRig {
 std::unique_ptr<BundleRig> make_bundle_rig(const Scene& scene, float patch_size, std::uint32_t bins,
                                            std::uint32_t seed, int width = 8, int height = 8,
                                            std::uint32_t warmup = 0,
-                                           std::size_t static_tiled_bytes = kStaticTiledBytes);
+                                           std::size_t static_tiled_bytes = kStaticTiledBytes,
+                                           float contact_depth_fraction = kContactDepthFraction);
 
 // Runs `iterations` eye estimates (after the rig's warm-up) and returns the mean image.
 RenderRun render_rb(BundleRig& rig, std::uint64_t iterations);

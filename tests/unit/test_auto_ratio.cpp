@@ -9,14 +9,14 @@ namespace bp {
 namespace {
 
 TEST(AutoRatio, GivesPtItsShareOfTheTime) {
-  const double f = kAutoRatioPtTimeShare;
+  for (double f : {auto_ratio_pt_time_share(false), auto_ratio_pt_time_share(true)})
   for (double t_pt : {1e-4, 3e-3, 0.2})
     for (double t_rb : {1e-4, 2e-3, 0.05}) {
-      const RoundShape shape = auto_ratio_shape(t_pt, t_rb);
+      const RoundShape shape = auto_ratio_shape(t_pt, t_rb, f);
       const double c = shape.ratio(), exact = f / (1 - f) * t_rb / t_pt;
       EXPECT_EQ(std::exp2(std::round(std::log2(c))), c) << "a power of 2";
       if (exact > 1.0 / 1024 && exact < 64) {
-        EXPECT_LE(std::fabs(std::log2(c / exact)), 0.5 + 1e-9) << t_pt << " " << t_rb;
+        EXPECT_LE(std::fabs(std::log2(c / exact)), 0.5 + 1e-9) << f << " " << t_pt << " " << t_rb;
         const double share = shape.pt_samples * t_pt / (shape.pt_samples * t_pt + shape.rb_iterations * t_rb);
         EXPECT_NEAR(share, f, 0.15) << t_pt << " " << t_rb;
       }
@@ -26,11 +26,20 @@ TEST(AutoRatio, GivesPtItsShareOfTheTime) {
 }
 
 TEST(AutoRatio, StaysWithinItsRange) {
-  EXPECT_EQ(auto_ratio_shape(1.0, 1e-9).rb_iterations, 1024u);
-  EXPECT_EQ(auto_ratio_shape(1e-9, 1.0).pt_samples, 64u);
+  const double f = auto_ratio_pt_time_share(false);
+  EXPECT_EQ(auto_ratio_shape(1.0, 1e-9, f).rb_iterations, 1024u);
+  EXPECT_EQ(auto_ratio_shape(1e-9, 1.0, f).pt_samples, 64u);
   // equal (clamped) costs: f / (1 - f), snapped to a power of 2
-  const double f = kAutoRatioPtTimeShare;
-  EXPECT_EQ(auto_ratio_shape(0.0, 0.0).ratio(), std::ldexp(1.0, int(std::lround(std::log2(f / (1.0 - f))))));
+  EXPECT_EQ(auto_ratio_shape(0.0, 0.0, f).ratio(), std::ldexp(1.0, int(std::lround(std::log2(f / (1.0 - f))))));
+}
+
+// PT gets the larger share where the eye vertex's direct light is its alone (passes/combined.h).
+TEST(AutoRatio, LeansToPtWhereTheEyeDirectLightIsPtsAlone) {
+  EXPECT_EQ(auto_ratio_pt_time_share(false), kAutoRatioPtTimeShareEyeShared);
+  EXPECT_EQ(auto_ratio_pt_time_share(true), kAutoRatioPtTimeShareEyePt);
+  EXPECT_GT(kAutoRatioPtTimeShareEyePt, kAutoRatioPtTimeShareEyeShared);
+  EXPECT_GE(auto_ratio_shape(1e-3, 2e-3, auto_ratio_pt_time_share(true)).ratio(),
+            auto_ratio_shape(1e-3, 2e-3, auto_ratio_pt_time_share(false)).ratio());
 }
 
 }  // namespace
