@@ -435,8 +435,13 @@ class Loader {
         const float metallic = float(pbr.metallicFactor);
         const auto* sf = extension(m.extensions, "KHR_materials_specular", "specularFactor");
         const float specular = sf && sf->IsNumber() ? float(sf->GetNumberAsDouble()) : 1.0f;
+        // Blender's exporter writes specularColorFactor [0, 0, 0] for Specular 0: pure Lambert.
+        const auto* scf = extension(m.extensions, "KHR_materials_specular", "specularColorFactor");
+        const glm::vec3 specular_colour =
+            scf ? rgb(*scf, obj + " KHR_materials_specular.specularColorFactor") : glm::vec3(1.0f);
         out.kd = base * (1.0f - metallic);
-        out.ks = metallic * base + (1.0f - metallic) * 0.04f * specular;
+        // KHR_materials_specular: the dielectric F0 is 0.04 specularFactor specularColorFactor
+        out.ks = metallic * base + (1.0f - metallic) * 0.04f * specular * specular_colour;
         const double a = double(pbr.roughnessFactor) * pbr.roughnessFactor;
         const double n = a > 0.0 ? 2.0 / (a * a) - 2.0 : 1e6;
         out.shininess = float(std::clamp(n, 0.0, 1e6));

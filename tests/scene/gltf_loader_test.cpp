@@ -43,13 +43,13 @@ TEST(GltfLoader, SparseAccessorWithoutBufferView) {
 
 TEST(GltfLoader, MaterialMapping) {
   const Scene s = load_gltf(test_file("good/materials.gltf"));
-  ASSERT_EQ(s.materials.size(), 6u);
-  ASSERT_EQ(s.triangles.size(), 6u);
+  ASSERT_EQ(s.materials.size(), 8u);
+  ASSERT_EQ(s.triangles.size(), 8u);
   // Index 0 is the default material; file material i is at i + 1.
   expect_vec3_near(s.materials[0].kd, glm::vec3(0.8f));
   expect_vec3_near(s.materials[0].ks, glm::vec3(0.0f));
-  for (std::uint32_t i = 0; i < 5; ++i) EXPECT_EQ(s.triangles[i].material, i + 1);
-  EXPECT_EQ(s.triangles[5].material, 0u);
+  for (std::uint32_t i = 0; i < 7; ++i) EXPECT_EQ(s.triangles[i].material, i + 1);
+  EXPECT_EQ(s.triangles[7].material, 0u);
 
   const SceneMaterial& phong = s.materials[1];  // extras.phong wins over the PBR fields
   expect_vec3_near(phong.kd, {0.2f, 0.3f, 0.4f});
@@ -76,6 +76,16 @@ TEST(GltfLoader, MaterialMapping) {
   EXPECT_TRUE(lamp.double_sided);
   EXPECT_FLOAT_EQ(lamp.shininess, 1e6f);  // roughness 0
   EXPECT_FALSE(phong.double_sided);
+
+  // KHR_materials_specular.specularColorFactor [0, 0, 0] (Blender's Specular 0): pure Lambert, no warning.
+  const SceneMaterial& lambert = s.materials[6];
+  expect_vec3_near(lambert.kd, glm::vec3(1.0f));
+  expect_vec3_near(lambert.ks, glm::vec3(0.0f));
+  EXPECT_FALSE(has_warning(s, "\"blender specular 0\""));
+  // ks = metallic base + (1 - metallic) 0.04 specularFactor specularColorFactor
+  const SceneMaterial& coloured = s.materials[7];  // base 0.5, metallic 0.5, specular 0.5, colour (1, 0.5, 0)
+  expect_vec3_near(coloured.kd, glm::vec3(0.25f));
+  expect_vec3_near(coloured.ks, glm::vec3(0.25f) + 0.5f * 0.04f * 0.5f * glm::vec3(1.0f, 0.5f, 0.0f));
 
   EXPECT_EQ(s.emissive_triangles(), 1u);
   EXPECT_FALSE(has_warning(s, "no emitter"));
@@ -204,6 +214,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"light-cone.gltf", "KHR_lights_punctual light 0 has cone angles"},
         BadCase{"light-intensity.gltf", "KHR_lights_punctual light 0 has intensity"},
         BadCase{"light-type.gltf", "KHR_lights_punctual light 0 has unknown type"},
+        BadCase{"specular-colour.gltf", "material 0 \"grey\" KHR_materials_specular.specularColorFactor"},
         BadCase{"uri-parent.gltf", "buffer 0 uri"},
         BadCase{"uri-absolute.gltf", "buffer 0 uri"},
         BadCase{"uri-encoded-parent.gltf", "buffer 0 uri"},

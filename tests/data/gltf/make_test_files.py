@@ -139,10 +139,16 @@ def good_files():
         {"name": "lamp", "emissiveFactor": [1.0, 0.5, 0.25], "doubleSided": True,
          "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1], "metallicFactor": 0, "roughnessFactor": 0},
          "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 4.0}}},
+        # Blender's exporter for Specular 0: white base colour, no specular lobe, no warning.
+        {"name": "blender specular 0", "pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 1], "metallicFactor": 0},
+         "extensions": {"KHR_materials_specular": {"specularColorFactor": [0, 0, 0]}}},
+        {"name": "coloured specular", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1],
+                                                               "metallicFactor": 0.5},
+         "extensions": {"KHR_materials_specular": {"specularFactor": 0.5, "specularColorFactor": [1, 0.5, 0]}}},
     ]
     doc["extensionsUsed"] = ["KHR_materials_specular", "KHR_materials_emissive_strength"]
     prim = doc["meshes"][0]["primitives"][0]
-    doc["meshes"][0]["primitives"] = [dict(prim, material=i) for i in range(5)] + [
+    doc["meshes"][0]["primitives"] = [dict(prim, material=i) for i in range(7)] + [
         {"attributes": {"POSITION": 0}, "indices": 1}]
     write_json("good/materials.gltf", embed(doc, blob))
 
@@ -279,6 +285,10 @@ def bad_files():
             ("light-intensity", {"type": "point", "intensity": -2.0}, 0),
             ("light-type", {"type": "area"}, 0)]:
         bad(name, with_lights([light], node_light))
+
+    def specular_colour(doc):
+        doc["materials"][0]["extensions"] = {"KHR_materials_specular": {"specularColorFactor": [1, 1]}}
+    bad("specular-colour", specular_colour)
 
 
 if __name__ == "__main__":
