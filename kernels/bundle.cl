@@ -386,7 +386,8 @@ __kernel void rb_gather(__global const BundleElement* elements, __global const u
 __kernel void rb_eye_hits(__global const BvhNode* nodes, __global const BvhTriangle* triangles,
                           __global const TriangleShading* shading, __global const Material* materials,
                           const CameraParams camera, const uint seed, const uint jitter_index,
-                          __global EyeHit* hits) {
+                          __global EyeHit* hits, __global const float* shading_normals, const uint has_normals,
+                          __global float4* eye_normals) {
   uint pixel = (uint)get_global_id(0);
   if (pixel >= camera.width * camera.height) return;
   Rng rng = rng_init(seed, pixel, jitter_index);
@@ -400,8 +401,11 @@ __kernel void rb_eye_hits(__global const BvhNode* nodes, __global const BvhTrian
   out.wo[0] = -dir.x; out.wo[1] = -dir.y; out.wo[2] = -dir.z;
   out.pad0 = 0.0f;
   Hit hit;
+  float3 shading_normal = make_float3(0.0f, 0.0f, 1.0f);
   if (bvh_closest_hit(nodes, triangles, origin, dir, BP_FLOAT_MAX, &hit)) {
-    SurfaceHit s = surface_at(shading, hit.triangle, hit.b1, hit.b2, origin + dir * hit.t, dir);
+    SurfaceHit s = surface_at_shaded(shading, shading_normals, has_normals, hit.triangle, hit.b1, hit.b2,
+                                     origin + dir * hit.t, dir);
+    shading_normal = s.shading_normal;
     if (s.reflects || (materials[s.material].flags & BP_MATERIAL_DOUBLE_SIDED)) {
       __global const TriangleShading* t = &shading[hit.triangle];
       out.patch = s.patch;
@@ -410,6 +414,20 @@ __kernel void rb_eye_hits(__global const BvhNode* nodes, __global const BvhTrian
     }
   }
   hits[pixel] = out;
+  if (BP_FEATURE_SHADING_NORMALS && has_normals)
+    eye_normals[pixel] = (float4)(shading_normal.x, shading_normal.y, shading_normal.z, 0.0f);
+}
+
+// What the eye vertex reflects of incoming irradiance E_in = L_in cos(theta_patch) arriving along wi,
+// per unit E_in and solid angle: f(wi, wo) cos(theta_shading) / cos(theta_patch), the BRDF and cosine
+// about the shading normal (DESIGN.md §6); with the flat normal, f (flat: about the patch normal).
+// A direction below the shading normal reflects nothing.
+static float3 eye_brdf(const Bsdf* bsdf, float3 n_patch, float3 n_shading, float3 wi, float3 wo, float3 flat_f) {
+  float3 d = n_shading - n_patch;
+  if (!BP_FEATURE_SHADING_NORMALS || (d.x == 0.0f && d.y == 0.0f && d.z == 0.0f)) return flat_f;
+  float cos_patch = dot(n_patch, wi), cos_shading = dot(n_shading, wi);
+  if (!(cos_patch > 1e-6f) || !(cos_shading > 0.0f)) return make_float3(0.0f, 0.0f, 0.0f);
+  return bsdf_eval(bsdf, n_shading, wi, wo) * (cos_shading / cos_patch);
 }
 
 // Values per patch that the eye estimate interpolates: every chain, and with --eye-direct shared the
@@ -457,7 +475,8 @@ __kernel void rb_eye(__global const EyeHit* hits, __global const BundleElement* 
                      __global const uint* patch_element, __global const Material* materials,
                      __global const float4* e_in, __global const uint* patch_vertices,
                      __global const float4* e_vertex, const uint gouraud, const BundleIteration it,
-                     const uint pixels, __global float4* pixel_sum, __global const float4* eye_light) {
+                     const uint pixels, __global float4* pixel_sum, __global const float4* eye_light,
+                     __global const float4* eye_normals) {
   uint pixel = (uint)get_global_id(0);
   if (pixel >= pixels) return;
   EyeHit h = hits[pixel];
@@ -467,8 +486,13 @@ __kernel void rb_eye(__global const EyeHit* hits, __global const BundleElement* 
   Bsdf bsdf = bsdf_from_material(&materials[elements[pe & ~BP_BACK_SIDE].material]);
   float3 wo = make_float3(h.wo[0], h.wo[1], h.wo[2]);
   float3 wi = facing(n, bp_private3(it.omega));
-  BsdfValue v = bsdf_evaluate(&bsdf, n, wi, wo);
-  float3 transfer = v.f * BP_TWO_PI;
+  BsdfValue v = bsdf_evaluate(&bsdf, n, wi, wo);  // about the patch normal: the weight inputs (DESIGN.md §3)
+  float3 ns = n;  // the shading normal, for the reflected radiance
+  if (BP_FEATURE_SHADING_NORMALS && it.shading_normals) {
+    float4 e = eye_normals[pixel];
+    ns = make_float3(e.x, e.y, e.z);
+  }
+  float3 transfer = eye_brdf(&bsdf, n, ns, wi, wo, v.f) * BP_TWO_PI;
   const uint slots = eye_slots(&it);
   float4 e0 = eye_irradiance(&h, &e_in[h.patch * it.chains], patch_vertices, e_vertex, gouraud, slots, 0u);
   float3 reflected0 = transfer * make_float3(e0.x, e0.y, e0.z);
@@ -488,8 +512,10 @@ __kernel void rb_eye(__global const EyeHit* hits, __global const BundleElement* 
       float4 el = eye_irradiance(&h, &eye_light[2 * h.patch], patch_vertices, e_vertex, gouraud, slots, it.chains);
       float4 el_dir = eye_light[2 * h.patch + 1];
       weighted += transfer * make_float3(ed.x, ed.y, ed.z);
-      if (el.x + el.y + el.z > 0.0f)
-        weighted += bsdf_evaluate(&bsdf, n, make_float3(el_dir.x, el_dir.y, el_dir.z), wo).f * make_float3(el.x, el.y, el.z);
+      if (el.x + el.y + el.z > 0.0f) {
+        float3 el_wi = make_float3(el_dir.x, el_dir.y, el_dir.z);
+        weighted += eye_brdf(&bsdf, n, ns, el_wi, wo, bsdf_evaluate(&bsdf, n, el_wi, wo).f) * make_float3(el.x, el.y, el.z);
+      }
     }
   } else if (it.weight_mode == BP_WEIGHTS_PAPER) {
     float log_pstar = paper_log_pstar_step(bsdf.continuation, v.pdf_uv, e0.w);  // (10) at the eye vertex

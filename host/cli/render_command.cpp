@@ -212,7 +212,8 @@ int run_render(const RenderOptions& o) {
     rb_settings.light_rate = light_rate;
     rb_settings.keep_raw = o.all_layers;
     try {
-      check_bundle_memory(device.info, size, rb_settings.bins, std::size_t(width) * height, bundle_chains(rb_settings));
+      check_bundle_memory(device.info, size, rb_settings.bins, std::size_t(width) * height, bundle_chains(rb_settings),
+                          scene.has_shading_normals());
     } catch (const std::invalid_argument& e) {
       throw UsageError(e.what());
     }
@@ -459,7 +460,8 @@ int run_render(const RenderOptions& o) {
       stats["ms_per_iteration"] = rb_iterations && !shape ? outcome.seconds * 1e3 / iterations : 0.0;
       stats["fragments_per_second"] = outcome.seconds > 0 ? double(outcome.fragments) / outcome.seconds : 0.0;
       stats["rb_device_bytes_estimate"] = estimate_bundle_memory(bundle_size(scene, patches), rb->bins(),
-                                                                 std::size_t(width) * height, bundle_chains(rb_settings));
+                                                                 std::size_t(width) * height, bundle_chains(rb_settings),
+                                                                 scene.has_shading_normals());
       stats["rb_chains"] = bundle_chains(rb_settings);
     }
     if (reference) stats["reference"] = {{"path", o.reference_path}, {"layers", metrics}};

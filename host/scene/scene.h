@@ -21,6 +21,9 @@ struct SceneMaterial {
 struct SceneTriangle {
   glm::vec3 p[3];              // world space, metres, counter-clockwise = front
   std::uint32_t material = 0;
+  // glTF NORMAL at the corners, world space, unit, front side; interpolated for shading (DESIGN.md §6)
+  bool has_normals = false;
+  glm::vec3 normal[3]{};
 };
 
 // A KHR_lights_punctual light. glTF gives intensity in candela; the loader converts it to radiant
@@ -62,6 +65,7 @@ struct Scene {
   Bounds bounds;
   std::vector<std::string> warnings;     // things the loader accepted but a user should know
   std::size_t emissive_triangles() const;
+  bool has_shading_normals() const;      // some triangle has NORMAL corners
   bool has_light() const { return emissive_triangles() > 0 || !lights.empty(); }
 };
 

@@ -55,7 +55,7 @@ typedef struct {
   bp_u32 beta_heuristic;  // BP_BETA_*: the per-vertex beta of product weights (kernels/shared/weights.h)
   float light_rate;       // probability that a patch traces its light sample in an iteration (in (0, 1])
   bp_u32 eye_direct_chain;  // the chain of direct light weighted for the eye vertex (--eye-direct shared), 0: none
-  bp_u32 pad;
+  bp_u32 shading_normals;   // 1: the eye gather reflects with the eye hits' shading normals (rb_eye_hits)
 } BundleIteration;
 
 // Chains per patch and fragment: chain 0 is the weighted one. With light sampling (product weights)

@@ -107,6 +107,21 @@ TEST(GltfLoader, HierarchyTransformsAndMirroredWinding) {
   EXPECT_EQ(s.camera.aspect, 0.0f);  // not given
 }
 
+// NORMAL: read per corner, carried through the node transform by its inverse transpose, a zero one
+// replaced by the flat normal with a warning; a file without NORMAL has no shading normals.
+TEST(GltfLoader, NormalsAreReadAndTransformed) {
+  const Scene s = load_gltf(test_file("good/normals.gltf"));
+  ASSERT_EQ(s.triangles.size(), 1u);
+  const SceneTriangle& t = s.triangles[0];
+  ASSERT_TRUE(t.has_normals);
+  EXPECT_TRUE(s.has_shading_normals());
+  expect_vec3_near(t.normal[0], {0, 0, 1});
+  expect_vec3_near(t.normal[1], glm::normalize(glm::vec3(0.5f, 0.0f, 1.0f)));  // scale (2, 1, 1): x / 2
+  expect_vec3_near(t.normal[2], {0, 0, 1});  // zero in the file: the flat normal
+  EXPECT_TRUE(has_warning(s, "1 triangle corner(s) have a zero NORMAL"));
+  EXPECT_FALSE(load_gltf(test_file("good/strided.gltf")).has_shading_normals());
+}
+
 TEST(GltfLoader, NoScenesDrawsEveryRootNode) {
   const Scene s = load_gltf(test_file("good/no-scenes.gltf"));
   EXPECT_EQ(s.triangles.size(), 2u);
@@ -214,6 +229,10 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"light-cone.gltf", "KHR_lights_punctual light 0 has cone angles"},
         BadCase{"light-intensity.gltf", "KHR_lights_punctual light 0 has intensity"},
         BadCase{"light-type.gltf", "KHR_lights_punctual light 0 has unknown type"},
+        BadCase{"normal-type.gltf", "accessor 2 (NORMAL of mesh 0 primitive 0) has type VEC2"},
+        BadCase{"normal-count.gltf", "accessor 2 (NORMAL of mesh 0 primitive 0) has 2 elements, but POSITION has 3"},
+        BadCase{"normal-component.gltf", "accessor 2 (NORMAL of mesh 0 primitive 0) has unsupported component type"},
+        BadCase{"normal-nan.gltf", "accessor 2 (NORMAL of mesh 0 primitive 0) holds a non-finite normal"},
         BadCase{"specular-colour.gltf", "material 0 \"grey\" KHR_materials_specular.specularColorFactor"},
         BadCase{"uri-parent.gltf", "buffer 0 uri"},
         BadCase{"uri-absolute.gltf", "buffer 0 uri"},

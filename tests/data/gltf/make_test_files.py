@@ -102,7 +102,27 @@ def with_lights(lights, node_light):
     return mutate
 
 
+def with_normals(normals, count=None, accessor_type="VEC3", component=5126):
+    """One triangle with a NORMAL accessor (2) holding `normals`; count, type and component overridable."""
+    doc, blob = base()
+    offset = len(blob)
+    for n in normals:
+        blob += struct.pack("<3f", *n)
+    doc["bufferViews"].append({"buffer": 0, "byteOffset": offset, "byteLength": len(blob) - offset})
+    doc["accessors"].append({"bufferView": 2, "componentType": component,
+                             "count": len(normals) if count is None else count, "type": accessor_type})
+    doc["buffers"][0]["byteLength"] = len(blob)
+    doc["meshes"][0]["primitives"][0]["attributes"]["NORMAL"] = 2
+    return doc, blob
+
+
 def good_files():
+    # NORMAL: corner 1 tilted towards +x, corner 2 zero (the flat normal is used, with a warning),
+    # under a node stretched 2x in x (normals transform by the inverse transpose).
+    doc, blob = with_normals([(0.0, 0.0, 1.0), (0.7071068, 0.0, 0.7071068), (0.0, 0.0, 0.0)])
+    doc["nodes"][0]["scale"] = [2.0, 1.0, 1.0]
+    write_json("good/normals.gltf", embed(doc, blob))
+
     # KHR_lights_punctual: a spot light 2 m up, pointing down (the node's -z turned to -y), a point
     # light, and a directional light that is ignored with a warning.
     doc, blob = base()
@@ -285,6 +305,13 @@ def bad_files():
             ("light-intensity", {"type": "point", "intensity": -2.0}, 0),
             ("light-type", {"type": "area"}, 0)]:
         bad(name, with_lights([light], node_light))
+
+    for name, kwargs in [("normal-type", {"accessor_type": "VEC2"}), ("normal-count", {"count": 2}),
+                         ("normal-component", {"component": 5123})]:
+        doc, blob = with_normals([(0.0, 0.0, 1.0)] * 3, **kwargs)
+        write_json(f"bad/{name}.gltf", embed(doc, blob))
+    doc, blob = with_normals([(0.0, 0.0, 1.0), (0.0, float("nan"), 1.0), (0.0, 0.0, 1.0)])
+    write_json("bad/normal-nan.gltf", embed(doc, blob))
 
     def specular_colour(doc):
         doc["materials"][0]["extensions"] = {"KHR_materials_specular": {"specularColorFactor": [1, 1]}}
