@@ -87,8 +87,8 @@ options (defaults in brackets):
                       and bundles (rb) only, as in the paper. Light sampling (next-event
                       estimation in PT, a shadow ray per patch in RB) acts in --mode pt and in
                       --mode combined with product weights; --mode rb and --weights paper/none
-                      never sample lights. Point and spot lights (KHR_lights_punctual) are
-                      reached by light sampling only
+                      never sample lights. Point, spot and directional lights
+                      (KHR_lights_punctual) are reached by light sampling only
   --light-selection S light sampling: how a light is chosen for a receiving patch: tree (a
                       BVH over the lights bounding power, position and orientation; nearby,
                       facing lights are chosen more often) or power (by power alone, the same

@@ -115,7 +115,7 @@ int run_render(const RenderOptions& o) {
   for (const std::string& w : scene.warnings) std::fprintf(stderr, "bundlepath: warning: %s: %s\n", o.scene.c_str(), w.c_str());
   if (!scene.lights.empty() && !light_sampling_applies(o))
     std::fprintf(stderr,
-                 "bundlepath: warning: %s: %zu point/spot light(s) are reached by light sampling only, which this run "
+                 "bundlepath: warning: %s: %zu point/spot/directional light(s) are reached by light sampling only, which this run "
                  "does not use (--mode pt or --mode combined with product weights, without --no-light-sampling): "
                  "they stay dark\n",
                  o.scene.c_str(), scene.lights.size());

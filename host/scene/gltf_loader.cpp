@@ -758,8 +758,9 @@ class Loader {
     camera_found_ = true;
   }
 
-  // KHR_lights_punctual: position from the node, direction its -z; intensity in candela (lm/sr),
-  // made radiometric (W/sr) at 683 lm/W -- the factor Blender's exporter multiplies watts by.
+  // KHR_lights_punctual: position from the node, direction its -z; intensity in candela (lm/sr) or,
+  // for directional lights, lux (lm/m^2), made radiometric (W/sr, W/m^2) at 683 lm/W -- the factor
+  // Blender's exporter multiplies watts by (a sun's W/m^2 alike).
   static constexpr double kLumensPerWatt = 683.0;
   void take_light(int l, int n, const glm::dmat4& world) {
     const std::string obj = "KHR_lights_punctual light " + std::to_string(l);
@@ -768,14 +769,13 @@ class Loader {
            std::to_string(model_.lights.size()) + " lights");
     const auto& light = model_.lights[l];
     const std::string name = obj + quoted(light.name);
-    if (light.type == "directional") {
-      scene_.warnings.push_back(name + " is directional; only point and spot lights are supported, ignored");
-      return;
-    }
-    if (light.type != "point" && light.type != "spot") fail(name + " has unknown type \"" + light.type + "\"");
+    if (light.type != "point" && light.type != "spot" && light.type != "directional")
+      fail(name + " has unknown type \"" + light.type + "\"");
     ScenePunctualLight out;
     out.name = light.name;
-    out.kind = light.type == "spot" ? ScenePunctualLight::Kind::spot : ScenePunctualLight::Kind::point;
+    out.kind = light.type == "spot"          ? ScenePunctualLight::Kind::spot
+               : light.type == "directional" ? ScenePunctualLight::Kind::directional
+                                             : ScenePunctualLight::Kind::point;
     glm::dvec3 colour(1.0);
     if (!light.color.empty()) {
       if (light.color.size() != 3) fail(name + " color is not an array of 3 numbers");

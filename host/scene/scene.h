@@ -26,15 +26,16 @@ struct SceneTriangle {
   glm::vec3 normal[3]{};
 };
 
-// A KHR_lights_punctual light. glTF gives intensity in candela; the loader converts it to radiant
-// intensity (W sr^-1) at 683 lm/W. No range cut-off: the inverse square law everywhere.
+// A KHR_lights_punctual light. glTF gives intensity in candela (point, spot) or lux (directional);
+// the loader converts it to radiant intensity (W sr^-1) or irradiance (W m^-2) at 683 lm/W. No range
+// cut-off: the inverse square law everywhere.
 struct ScenePunctualLight {
-  enum class Kind { point, spot };
+  enum class Kind { point, spot, directional };
   Kind kind = Kind::point;
   std::string name;
-  glm::vec3 position{0.0f};
-  glm::vec3 direction{0.0f, 0.0f, -1.0f};  // unit; spot: the cone's axis
-  glm::vec3 intensity{1.0f};               // colour times intensity, W sr^-1
+  glm::vec3 position{0.0f};                // point, spot
+  glm::vec3 direction{0.0f, 0.0f, -1.0f};  // unit; spot: the cone's axis; directional: where the light travels
+  glm::vec3 intensity{1.0f};               // colour times intensity: W sr^-1 (point, spot), W m^-2 (directional)
   float inner_cone = 0.0f;                 // spot: radians, full intensity within
   float outer_cone = 0.7853982f;           // spot: radians, no light beyond
 };

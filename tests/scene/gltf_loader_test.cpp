@@ -142,10 +142,10 @@ TEST(GltfLoader, DegenerateTrianglesDroppedWithOneWarning) {
   EXPECT_TRUE(has_warning(s, "dropped 1 degenerate"));
 }
 
-// KHR_lights_punctual: candela become W/sr at 683 lm/W; the node places and turns the light.
+// KHR_lights_punctual: candela become W/sr and lux W/m^2 at 683 lm/W; the node places and turns the light.
 TEST(GltfLoader, PunctualLights) {
   const Scene s = load_gltf(test_file("good/lights.gltf"));
-  ASSERT_EQ(s.lights.size(), 2u);
+  ASSERT_EQ(s.lights.size(), 3u);
   const ScenePunctualLight& spot = s.lights[0];
   EXPECT_EQ(spot.kind, ScenePunctualLight::Kind::spot);
   expect_vec3_near(spot.position, {0, 2, 0});
@@ -155,7 +155,11 @@ TEST(GltfLoader, PunctualLights) {
   EXPECT_FLOAT_EQ(spot.outer_cone, 0.5f);
   EXPECT_EQ(s.lights[1].kind, ScenePunctualLight::Kind::point);
   expect_vec3_near(s.lights[1].intensity, glm::vec3(2.0f));
-  EXPECT_TRUE(has_warning(s, "is directional"));
+  const ScenePunctualLight& sun = s.lights[2];
+  EXPECT_EQ(sun.kind, ScenePunctualLight::Kind::directional);
+  expect_vec3_near(sun.intensity, glm::vec3(3.0f));  // 2049 lux / 683 lm/W
+  expect_vec3_near(sun.direction, {0, 0, -1});       // the node's -z
+  EXPECT_FALSE(has_warning(s, "directional"));  // taken, not skipped
   EXPECT_FALSE(has_warning(s, "no emitter"));  // punctual lights light the scene
 }
 

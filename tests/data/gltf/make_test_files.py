@@ -124,12 +124,12 @@ def good_files():
     write_json("good/normals.gltf", embed(doc, blob))
 
     # KHR_lights_punctual: a spot light 2 m up, pointing down (the node's -z turned to -y), a point
-    # light, and a directional light that is ignored with a warning.
+    # light, and a directional light of 3 W/m^2 (2049 lux), shining along the node's -z.
     doc, blob = base()
     with_lights([{"type": "spot", "color": [1.0, 0.5, 0.25], "intensity": 683.0,
                   "spot": {"innerConeAngle": 0.25, "outerConeAngle": 0.5}},
                  {"type": "point", "intensity": 1366.0},
-                 {"type": "directional"}], 0)(doc)
+                 {"type": "directional", "intensity": 2049.0}], 0)(doc)
     doc["nodes"][-1].update(translation=[0.0, 2.0, 0.0], rotation=[-0.7071068, 0.0, 0.0, 0.7071068])
     for light in (1, 2):
         doc["nodes"].append({"translation": [1.0, 1.0, 1.0], "extensions": {"KHR_lights_punctual": {"light": light}}})
