@@ -254,6 +254,31 @@ static float4 rb_direct_received(__global const BundleElement* elements, __globa
   return (float4)(le.x * w, le.y * w, le.z * w, 0.0f);
 }
 
+// The uniform environment (--environment) as a patch receives it where no fragment is in front: an
+// emitter that only bundles and PT's BSDF samples reach (p_L = 0). For the direct chains weighted as
+// the RB bundle technique of the last segment, like rb_direct_received; for chain 0 with light
+// sampling nothing (it leaves light straight from emitters to the direct chain); for the others the
+// radiance itself, with the paper's P = 1 of an emitter (.w = ln 1).
+static float4 rb_environment_received(__global const BundleElement* elements, __global const Material* materials,
+                                      uint receiver_element, float3 n_receiver, float3 travel, uint c, uint direct,
+                                      uint eye, int light_sampling, const BundleIteration* it) {
+  float3 env = bp_private3(it->environment);
+  if (c == 0u && light_sampling) return (float4)(0.0f, 0.0f, 0.0f, BP_NO_SENDER);
+  if (c != direct && c != eye) return (float4)(env.x, env.y, env.z, 0.0f);
+  Bsdf receiver = bsdf_from_material(&materials[elements[receiver_element].material]);
+  float3 wi = facing(n_receiver, travel);
+  float w;
+  if (c == eye) {
+    float proxy = eye_direct_proxy_pdf_uv(&receiver, dot(n_receiver, wi));
+    w = eye_segment_weights(it->weight_ratio, it->light_rate, proxy, 0.0f, 0.0f, 0).rb_bundle;
+  } else {
+    float3 wo = facing(n_receiver, bp_private3(it->omega_next));
+    float pdf_bsdf = receiver.continuation * bsdf_pdf_uv(&receiver, n_receiver, wi, wo);
+    w = last_segment_weights(1.0f, it->weight_ratio, it->light_rate, pdf_bsdf, 0.0f, 0).rb_bundle;
+  }
+  return (float4)(env.x * w, env.y * w, env.z * w, 0.0f);
+}
+
 // 4. Resolve one tile: counting sort of its fragments by bin (private counters), depth sort per bin,
 //    then the transfer: consecutive fragments exchange radiance. The side of a fragment facing
 //    -omega receives what the previous fragment sends along +omega, the other side what the next
@@ -285,6 +310,7 @@ __kernel void rb_tile_resolve(__global const BundleElement* elements, __global c
   const uint chains = it.chains, direct = light_sampling ? it.direct_chain : chains;  // chains: none
   const uint eye = light_sampling && it.eye_direct_chain ? it.eye_direct_chain : chains;
   const LightSet light_set_ = light_set(lights, light_cdf, light_tree, light_receivers, it.light_count, light_selection);
+  const int environment = it.environment[0] + it.environment[1] + it.environment[2] > 0.0f;
   for (uint b = 0; b < BP_TILE_BINS; ++b) {
     uint first = begin + bin_start[b], last = begin + bin_start[b + 1];
     if (first == last) continue;
@@ -307,7 +333,10 @@ __kernel void rb_tile_resolve(__global const BundleElement* elements, __global c
       float3 n = bp_load3(elements[element].normal);
       for (uint c = 0; c < chains; ++c) {
         float4 r = nothing;
-        if (sender != BP_NO_PATCH && (c == direct || c == eye) && minus_patch != BP_NO_PATCH)
+        if (environment && a == first)  // nothing in front along -omega: the environment
+          r = rb_environment_received(elements, materials, element, facing(-omega, n), omega, c, direct, eye,
+                                      light_sampling, &it);
+        else if (sender != BP_NO_PATCH && (c == direct || c == eye) && minus_patch != BP_NO_PATCH)
           r = rb_direct_received(elements, materials, sender_element, element, facing(-omega, n), omega,
                                  depth - sender_depth, c == eye, &it, &light_set_, sender, minus_patch);
         else if (sender != BP_NO_PATCH && c != direct && c != eye)
@@ -329,7 +358,10 @@ __kernel void rb_tile_resolve(__global const BundleElement* elements, __global c
       }
       for (uint c = 0; c < chains; ++c) {
         float4 r = nothing;
-        if (next_minus != BP_NO_PATCH && (c == direct || c == eye) && own_plus != BP_NO_PATCH)
+        if (environment && a + 1 == last)  // nothing in front along +omega: the environment
+          r = rb_environment_received(elements, materials, element, facing(omega, n), -omega, c, direct, eye,
+                                      light_sampling, &it);
+        else if (next_minus != BP_NO_PATCH && (c == direct || c == eye) && own_plus != BP_NO_PATCH)
           r = rb_direct_received(elements, materials, next_element, element, facing(omega, n), -omega,
                                  next_depth - depth, c == eye, &it, &light_set_, next_minus, own_plus);
         else if (next_minus != BP_NO_PATCH && c != direct && c != eye)
@@ -396,7 +428,7 @@ __kernel void rb_eye_hits(__global const BvhNode* nodes, __global const BvhTrian
   float3 dir = camera_ray_direction(&camera, pixel % camera.width, pixel / camera.width, jx, jy);
   EyeHit out;
   out.patch = BP_NO_PATCH;
-  out.element = 0u;
+  out.element = BP_NO_PATCH;  // the ray leaves the scene: it sees the environment
   out.l1 = out.l2 = 0.0f;
   out.wo[0] = -dir.x; out.wo[1] = -dir.y; out.wo[2] = -dir.z;
   out.pad0 = 0.0f;
@@ -406,6 +438,7 @@ __kernel void rb_eye_hits(__global const BvhNode* nodes, __global const BvhTrian
     SurfaceHit s = surface_at_shaded(shading, shading_normals, has_normals, hit.triangle, hit.b1, hit.b2,
                                      origin + dir * hit.t, dir);
     shading_normal = s.shading_normal;
+    out.element = 0u;
     if (s.reflects || (materials[s.material].flags & BP_MATERIAL_DOUBLE_SIDED)) {
       __global const TriangleShading* t = &shading[hit.triangle];
       out.patch = s.patch;
@@ -480,7 +513,19 @@ __kernel void rb_eye(__global const EyeHit* hits, __global const BundleElement* 
   uint pixel = (uint)get_global_id(0);
   if (pixel >= pixels) return;
   EyeHit h = hits[pixel];
-  if (h.patch == BP_NO_PATCH) return;
+  if (h.patch == BP_NO_PATCH) {
+    // The environment seen from the eye, weighted as an emitter the eye sees: the empty prefix (RB's
+    // alone under product weights, PT's where light sampling gives it the eye's emission).
+    float3 env = bp_private3(it.environment);
+    if (h.element != BP_NO_PATCH || env.x + env.y + env.z <= 0.0f) return;
+    float3 weighted = env;
+    if (it.weight_mode == BP_WEIGHTS_PRODUCT && BP_FEATURE_LIGHT_SAMPLING && it.light_count > 0u)
+      weighted = make_float3(0.0f, 0.0f, 0.0f);
+    if (it.weight_mode == BP_WEIGHTS_PAPER) weighted = env * paper_rb_weight(0.0f, it.weight_ratio);
+    pixel_sum[pixel * it.eye_outputs] += (float4)(weighted.x, weighted.y, weighted.z, 0.0f);
+    if (it.eye_outputs > 1) pixel_sum[pixel * it.eye_outputs + 1] += (float4)(env.x, env.y, env.z, 0.0f);
+    return;
+  }
   uint pe = patch_element[h.patch];
   float3 n = patch_normal(elements, pe);
   Bsdf bsdf = bsdf_from_material(&materials[elements[pe & ~BP_BACK_SIDE].material]);

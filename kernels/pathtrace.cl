@@ -87,6 +87,28 @@ static void add_light_sample(const SceneRefs* scene, const PathTraceParams* para
   radiance->raw += contribution * alone.pt_light;
 }
 
+// A ray that leaves the scene sees the uniform environment (--environment), weighted as an emitter:
+// seen from the eye, by the empty prefix as the eye's emission (PT's alone with light sampling, RB's
+// alone under product weights without it, rb_eye); after a bounce, as the PT BSDF technique of the
+// last segment, whose RB bundle technique is the radiance a patch receives where nothing is in front
+// (rb_tile_resolve). No light sample reaches it: p_L = 0.
+static void add_environment(const PathTraceParams* params, const PathPdf* pdf, bp_u32 depth, float3 throughput,
+                            int light_sampling, float last_prefix_beta, float last_pdf_bsdf_patch,
+                            float last_pdf_bsdf, float last_pdf_proxy, PathRadiance* radiance) {
+  float3 seen = throughput * bp_private3(params->environment);
+  if (seen.x + seen.y + seen.z <= 0.0f) return;
+  radiance->raw += seen;
+  if (!light_sampling) {
+    radiance->weighted += seen * pt_emission_weight(pdf, params->weight_mode, params->weight_ratio);
+  } else if (depth == 0u) {
+    radiance->weighted += seen;
+  } else {
+    LastSegmentWeights w = pt_last_segment_weights(params, depth - 1u, last_prefix_beta, last_pdf_bsdf_patch,
+                                                   last_pdf_bsdf, last_pdf_proxy, 0.0f, 0);
+    radiance->weighted += seen * w.pt_bsdf;
+  }
+}
+
 // Radiance of one path (one pixel sample). Counts the rays it traces.
 static PathRadiance trace_path(const SceneRefs* scene, const PathTraceParams* params, float3 origin, float3 dir,
                                Rng* rng, bp_u32* rays) {
@@ -103,7 +125,11 @@ static PathRadiance trace_path(const SceneRefs* scene, const PathTraceParams* pa
   for (bp_u32 depth = 0; depth < params->max_depth; ++depth) {
     Hit hit;
     *rays += 1u;
-    if (!bvh_closest_hit(scene->nodes, scene->triangles, origin, dir, BP_FLOAT_MAX, &hit)) break;
+    if (!bvh_closest_hit(scene->nodes, scene->triangles, origin, dir, BP_FLOAT_MAX, &hit)) {
+      add_environment(params, &pdf, depth, throughput, light_sampling, last_prefix_beta, last_pdf_bsdf_patch,
+                      last_pdf_bsdf, last_pdf_proxy, &radiance);
+      break;
+    }
     SurfaceHit surface = surface_at_shaded(scene->shading, scene->shading_normals, params->shading_normals,
                                            hit.triangle, hit.b1, hit.b2, origin + dir * hit.t, dir);
     if (!surface.reflects && !(scene->materials[surface.material].flags & BP_MATERIAL_DOUBLE_SIDED)) break;

@@ -102,6 +102,9 @@ options (defaults in brackets):
   --patch-size M      target patch edge in metres              [scene diagonal / 20]
   --bins R            transillumination buffer R x R bins (rb) [an average patch covers 4 bins]
   --warmup N          ray-bundle iterations before the image starts (rb)  [16]
+  --environment R,G,B uniform environment radiance (W sr^-1 m^-2, linear RGB) that every ray
+                      leaving the scene sees: the background, and light from every open
+                      direction (PT: by BSDF sampling; RB: where no patch is in front)  [0,0,0]
   --rb-shading S      eye estimate: gouraud (interpolated across patches) or flat  [gouraud]
   --stats FILE        write run statistics as JSON
   --checkpoint FILE   save the render's state to FILE every --checkpoint-every seconds [60]
@@ -138,6 +141,18 @@ RenderOptions parse_render_options(const std::vector<std::string>& args) {
       {"--bins", [&](auto& k, auto& v) { o.bins = parse_number<std::uint32_t>(k, v, 1, 16384, "an integer in 1..16384"); }},
       {"--warmup", [&](auto& k, auto& v) {
          o.warmup = parse_number<std::uint32_t>(k, v, 0, 1u << 20, "an integer in 0..1048576");
+       }},
+      {"--environment", [&](auto& k, auto& v) {
+         std::array<float, 3> rgb{};
+         std::size_t start = 0;
+         for (int c = 0; c < 3; ++c) {
+           const std::size_t comma = v.find(',', start);
+           if ((c < 2) != (comma != std::string::npos))
+             throw UsageError(k + ": expected R,G,B (three radiances >= 0), got '" + v + "'");
+           rgb[c] = parse_number<float>(k, v.substr(start, comma - start), 0.0f, 1e30f, "R,G,B (three radiances >= 0)");
+           start = comma + 1;
+         }
+         o.environment = rgb;
        }},
       {"--rb-shading", [&](auto& k, auto& v) {
          if (v != "gouraud" && v != "flat") throw UsageError(k + ": expected gouraud or flat, got '" + v + "'");

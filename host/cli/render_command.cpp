@@ -69,6 +69,9 @@ std::string options_key(const RenderOptions& o, int width, int height, float pat
                     ";max_depth=" + std::to_string(o.max_depth) + ";layers=" + (o.all_layers ? "all" : "default") +
                     ";light_sampling=" + (light_sampling_applies(o) ? "on;light_selection=" + o.light_selection : "off") +
                     ";kernels=" + (o.generic_kernels ? "generic" : "specialised");
+  if (o.environment != std::array<float, 3>{0.0f, 0.0f, 0.0f})
+    key += ";environment=" + std::to_string(o.environment[0]) + "," + std::to_string(o.environment[1]) + "," +
+           std::to_string(o.environment[2]);
   if (o.mode != "pt")
     key += ";bins=" + std::to_string(bins) + ";warmup=" + std::to_string(o.warmup) +
            ";shading=" + (o.gouraud ? "gouraud" : "flat");
@@ -112,7 +115,10 @@ int run_render(const RenderOptions& o) {
 
   auto t_load = clock::now();
   Scene scene = load_gltf(o.scene);
-  for (const std::string& w : scene.warnings) std::fprintf(stderr, "bundlepath: warning: %s: %s\n", o.scene.c_str(), w.c_str());
+  scene.environment = glm::vec3(o.environment[0], o.environment[1], o.environment[2]);
+  for (const std::string& w : scene.warnings)
+    if (!(scene.has_environment() && w.rfind("no emitter", 0) == 0))  // the environment lights it
+      std::fprintf(stderr, "bundlepath: warning: %s: %s\n", o.scene.c_str(), w.c_str());
   if (!scene.lights.empty() && !light_sampling_applies(o))
     std::fprintf(stderr,
                  "bundlepath: warning: %s: %zu point/spot/directional light(s) are reached by light sampling only, which this run "

@@ -113,6 +113,7 @@ DeviceScene::DeviceScene(const DeviceContext& device, const Scene& scene, const 
   const std::vector<float> cdf_in = at_least_one(light_list.cdf);
   std::vector<float> normals_in = pack_shading_normals(scene);
   has_shading_normals = normals_in.empty() ? 0u : 1u;
+  for (int c = 0; c < 3; ++c) environment[c] = scene.environment[c];
   normals_in = at_least_one(std::move(normals_in));
   nodes = upload_buffer(device, "bvh nodes", bvh.nodes);
   triangles = upload_buffer(device, "bvh triangles", bvh.triangles);

@@ -28,6 +28,7 @@ struct DeviceScene {
   cl::Buffer lights, light_cdf;  // one dummy entry each when the scene has no light to sample
   cl::Buffer shading_normals;  // pack_shading_normals (one dummy entry without them)
   std::uint32_t has_shading_normals = 0;  // 1: the kernels interpolate shading_normals
+  float environment[3] = {0.0f, 0.0f, 0.0f};  // Scene::environment, for the passes' parameters
   cl::Buffer light_tree, light_receivers;  // tree selection only (else one dummy entry each); receivers per patch
   std::uint32_t light_selection = BP_LIGHT_SELECTION_TREE;  // BP_LIGHT_SELECTION_*, the same for PT and RB
   std::size_t triangle_count = 0, node_count = 0;

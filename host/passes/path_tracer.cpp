@@ -17,6 +17,7 @@ PathTracerPass::PathTracerPass(const DeviceContext& device, const DeviceScene& s
   params_.light_count = settings.light_sampling ? scene.light_count : 0u;
   params_.eye_direct_shared = settings.eye_direct_shared && settings.weight_mode == BP_WEIGHTS_PRODUCT ? 1u : 0u;
   params_.shading_normals = scene.has_shading_normals;
+  for (int c = 0; c < 3; ++c) params_.environment[c] = scene.environment[c];
   program_ = build_program(device, "pathtrace.cl", settings.kernel_options);
   kernel_ = cl::Kernel(program_.program, "pathtrace");
   std::size_t pixels = std::size_t(camera.width) * camera.height;

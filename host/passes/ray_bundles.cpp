@@ -231,6 +231,7 @@ BundleIteration RayBundlePass::iteration_params(std::uint64_t iteration) const {
   it.direct_chain = samples_lights(settings_) ? 1u : 0u;
   it.eye_direct_chain = shares_eye_direct(settings_) ? 2u : 0u;
   it.shading_normals = scene_.has_shading_normals;
+  for (int c = 0; c < 3; ++c) it.environment[c] = scene_.environment[c];
   return it;
 }
 

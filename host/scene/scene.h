@@ -62,12 +62,14 @@ struct Scene {
   std::vector<SceneTriangle> triangles;
   std::vector<SceneMaterial> materials;  // index 0: the default material; file material i is at i + 1
   std::vector<ScenePunctualLight> lights;
+  glm::vec3 environment{0.0f};           // uniform radiance of every direction that leaves the scene, W sr^-1 m^-2
   SceneCamera camera;
   Bounds bounds;
   std::vector<std::string> warnings;     // things the loader accepted but a user should know
   std::size_t emissive_triangles() const;
   bool has_shading_normals() const;      // some triangle has NORMAL corners
-  bool has_light() const { return emissive_triangles() > 0 || !lights.empty(); }
+  bool has_environment() const { return environment.x > 0.0f || environment.y > 0.0f || environment.z > 0.0f; }
+  bool has_light() const { return emissive_triangles() > 0 || !lights.empty() || has_environment(); }
 };
 
 }  // namespace bp
