@@ -255,6 +255,31 @@ static float4 rb_direct_received(__global const BundleElement* elements, __globa
   return (float4)(le.x * w, le.y * w, le.z * w, 0.0f);
 }
 
+// The uniform environment (--environment) as a patch receives it where no fragment is in front: an
+// emitter that only bundles and PT's BSDF samples reach (p_L = 0). For the direct chains weighted as
+// the RB bundle technique of the last segment, like rb_direct_received; for chain 0 with light
+// sampling nothing (it leaves light straight from emitters to the direct chain); for the others the
+// radiance itself, with the paper's P = 1 of an emitter (.w = ln 1).
+static float4 rb_environment_received(__global const BundleElement* elements, __global const Material* materials,
+                                      uint receiver_element, float3 n_receiver, float3 travel, uint c, uint direct,
+                                      uint eye, int light_sampling, const BundleIteration* it) {
+  float3 env = bp_private3(it->environment);
+  if (c == 0u && light_sampling) return (float4)(0.0f, 0.0f, 0.0f, BP_NO_SENDER);
+  if (c != direct && c != eye) return (float4)(env.x, env.y, env.z, 0.0f);
+  Bsdf receiver = bsdf_from_material(&materials[elements[receiver_element].material]);
+  float3 wi = facing(n_receiver, travel);
+  float w;
+  if (c == eye) {
+    float proxy = eye_direct_proxy_pdf_uv(&receiver, dot(n_receiver, wi));
+    w = eye_segment_weights(it->weight_ratio, it->light_rate, proxy, 0.0f, 0.0f, 0).rb_bundle;
+  } else {
+    float3 wo = facing(n_receiver, bp_private3(it->omega_next));
+    float pdf_bsdf = receiver.continuation * bsdf_pdf_uv(&receiver, n_receiver, wi, wo);
+    w = last_segment_weights(1.0f, it->weight_ratio, it->light_rate, pdf_bsdf, 0.0f, 0).rb_bundle;
+  }
+  return (float4)(env.x * w, env.y * w, env.z * w, 0.0f);
+}
+
 // 4. Resolve one tile: counting sort of its fragments by bin (private counters), depth sort per bin,
 //    then the transfer: consecutive fragments exchange radiance. The side of a fragment facing
 //    -omega receives what the previous fragment sends along +omega, the other side what the next
@@ -286,6 +311,7 @@ __kernel void rb_tile_resolve(__global const BundleElement* elements, __global c
   const uint chains = it.chains, direct = light_sampling ? it.direct_chain : chains;  // chains: none
   const uint eye = light_sampling && it.eye_direct_chain ? it.eye_direct_chain : chains;
   const LightSet light_set_ = light_set(lights, light_cdf, light_tree, light_receivers, it.light_count, light_selection);
+  const int environment = it.environment[0] + it.environment[1] + it.environment[2] > 0.0f;
   for (uint b = 0; b < BP_TILE_BINS; ++b) {
     uint first = begin + bin_start[b], last = begin + bin_start[b + 1];
     if (first == last) continue;
@@ -311,6 +337,9 @@ __kernel void rb_tile_resolve(__global const BundleElement* elements, __global c
         float4 r = nothing;
         if (touches_sender)
           r.w = BP_CONTACT;
+        else if (environment && a == first)  // nothing in front along -omega: the environment
+          r = rb_environment_received(elements, materials, element, facing(-omega, n), omega, c, direct, eye,
+                                      light_sampling, &it);
         else if (sender != BP_NO_PATCH && (c == direct || c == eye) && minus_patch != BP_NO_PATCH)
           r = rb_direct_received(elements, materials, sender_element, element, facing(-omega, n), omega,
                                  depth - sender_depth, c == eye, &it, &light_set_, sender, minus_patch);
@@ -336,6 +365,9 @@ __kernel void rb_tile_resolve(__global const BundleElement* elements, __global c
         float4 r = nothing;
         if (touches_next)
           r.w = BP_CONTACT;
+        else if (environment && a + 1 == last)  // nothing in front along +omega: the environment
+          r = rb_environment_received(elements, materials, element, facing(omega, n), -omega, c, direct, eye,
+                                      light_sampling, &it);
         else if (next_minus != BP_NO_PATCH && (c == direct || c == eye) && own_plus != BP_NO_PATCH)
           r = rb_direct_received(elements, materials, next_element, element, facing(omega, n), -omega,
                                  next_depth - depth, c == eye, &it, &light_set_, next_minus, own_plus);
@@ -398,7 +430,8 @@ __kernel void rb_gather(__global const BundleElement* elements, __global const u
 __kernel void rb_eye_hits(__global const BvhNode* nodes, __global const BvhTriangle* triangles,
                           __global const TriangleShading* shading, __global const Material* materials,
                           const CameraParams camera, const uint seed, const uint jitter_index,
-                          __global EyeHit* hits) {
+                          __global EyeHit* hits, __global const float* shading_normals, const uint has_normals,
+                          __global float4* eye_normals) {
   uint pixel = (uint)get_global_id(0);
   if (pixel >= camera.width * camera.height) return;
   Rng rng = rng_init(seed, pixel, jitter_index);
@@ -407,13 +440,17 @@ __kernel void rb_eye_hits(__global const BvhNode* nodes, __global const BvhTrian
   float3 dir = camera_ray_direction(&camera, pixel % camera.width, pixel / camera.width, jx, jy);
   EyeHit out;
   out.patch = BP_NO_PATCH;
-  out.element = 0u;
+  out.element = BP_NO_PATCH;  // the ray leaves the scene: it sees the environment
   out.l1 = out.l2 = 0.0f;
   out.wo[0] = -dir.x; out.wo[1] = -dir.y; out.wo[2] = -dir.z;
   out.pad0 = 0.0f;
   Hit hit;
+  float3 shading_normal = make_float3(0.0f, 0.0f, 1.0f);
   if (bvh_closest_hit(nodes, triangles, origin, dir, BP_FLOAT_MAX, &hit)) {
-    SurfaceHit s = surface_at(shading, hit.triangle, hit.b1, hit.b2, origin + dir * hit.t, dir);
+    SurfaceHit s = surface_at_shaded(shading, shading_normals, has_normals, hit.triangle, hit.b1, hit.b2,
+                                     origin + dir * hit.t, dir);
+    shading_normal = s.shading_normal;
+    out.element = 0u;
     if (s.reflects || (materials[s.material].flags & BP_MATERIAL_DOUBLE_SIDED)) {
       __global const TriangleShading* t = &shading[hit.triangle];
       out.patch = s.patch;
@@ -422,6 +459,20 @@ __kernel void rb_eye_hits(__global const BvhNode* nodes, __global const BvhTrian
     }
   }
   hits[pixel] = out;
+  if (BP_FEATURE_SHADING_NORMALS && has_normals)
+    eye_normals[pixel] = (float4)(shading_normal.x, shading_normal.y, shading_normal.z, 0.0f);
+}
+
+// What the eye vertex reflects of incoming irradiance E_in = L_in cos(theta_patch) arriving along wi,
+// per unit E_in and solid angle: f(wi, wo) cos(theta_shading) / cos(theta_patch), the BRDF and cosine
+// about the shading normal (DESIGN.md §6); with the flat normal, f (flat: about the patch normal).
+// A direction below the shading normal reflects nothing.
+static float3 eye_brdf(const Bsdf* bsdf, float3 n_patch, float3 n_shading, float3 wi, float3 wo, float3 flat_f) {
+  float3 d = n_shading - n_patch;
+  if (!BP_FEATURE_SHADING_NORMALS || (d.x == 0.0f && d.y == 0.0f && d.z == 0.0f)) return flat_f;
+  float cos_patch = dot(n_patch, wi), cos_shading = dot(n_shading, wi);
+  if (!(cos_patch > 1e-6f) || !(cos_shading > 0.0f)) return make_float3(0.0f, 0.0f, 0.0f);
+  return bsdf_eval(bsdf, n_shading, wi, wo) * (cos_shading / cos_patch);
 }
 
 // Values per patch that the eye estimate interpolates: every chain, and with --eye-direct shared the
@@ -469,18 +520,36 @@ __kernel void rb_eye(__global const EyeHit* hits, __global const BundleElement* 
                      __global const uint* patch_element, __global const Material* materials,
                      __global const float4* e_in, __global const uint* patch_vertices,
                      __global const float4* e_vertex, const uint gouraud, const BundleIteration it,
-                     const uint pixels, __global float4* pixel_sum, __global const float4* eye_light) {
+                     const uint pixels, __global float4* pixel_sum, __global const float4* eye_light,
+                     __global const float4* eye_normals) {
   uint pixel = (uint)get_global_id(0);
   if (pixel >= pixels) return;
   EyeHit h = hits[pixel];
-  if (h.patch == BP_NO_PATCH) return;
+  if (h.patch == BP_NO_PATCH) {
+    // The environment seen from the eye, weighted as an emitter the eye sees: the empty prefix (RB's
+    // alone under product weights, PT's where light sampling gives it the eye's emission).
+    float3 env = bp_private3(it.environment);
+    if (h.element != BP_NO_PATCH || env.x + env.y + env.z <= 0.0f) return;
+    float3 weighted = env;
+    if (it.weight_mode == BP_WEIGHTS_PRODUCT && BP_FEATURE_LIGHT_SAMPLING && it.light_count > 0u)
+      weighted = make_float3(0.0f, 0.0f, 0.0f);
+    if (it.weight_mode == BP_WEIGHTS_PAPER) weighted = env * paper_rb_weight(0.0f, it.weight_ratio);
+    pixel_sum[pixel * it.eye_outputs] += (float4)(weighted.x, weighted.y, weighted.z, 0.0f);
+    if (it.eye_outputs > 1) pixel_sum[pixel * it.eye_outputs + 1] += (float4)(env.x, env.y, env.z, 0.0f);
+    return;
+  }
   uint pe = patch_element[h.patch];
   float3 n = patch_normal(elements, pe);
   Bsdf bsdf = bsdf_from_material(&materials[elements[pe & ~BP_BACK_SIDE].material]);
   float3 wo = make_float3(h.wo[0], h.wo[1], h.wo[2]);
   float3 wi = facing(n, bp_private3(it.omega));
-  BsdfValue v = bsdf_evaluate(&bsdf, n, wi, wo);
-  float3 transfer = v.f * BP_TWO_PI;
+  BsdfValue v = bsdf_evaluate(&bsdf, n, wi, wo);  // about the patch normal: the weight inputs (DESIGN.md §3)
+  float3 ns = n;  // the shading normal, for the reflected radiance
+  if (BP_FEATURE_SHADING_NORMALS && it.shading_normals) {
+    float4 e = eye_normals[pixel];
+    ns = make_float3(e.x, e.y, e.z);
+  }
+  float3 transfer = eye_brdf(&bsdf, n, ns, wi, wo, v.f) * BP_TWO_PI;
   const uint slots = eye_slots(&it);
   float4 e0 = eye_irradiance(&h, &e_in[h.patch * it.chains], patch_vertices, e_vertex, gouraud, slots, 0u);
   float3 reflected0 = transfer * make_float3(e0.x, e0.y, e0.z);
@@ -500,8 +569,10 @@ __kernel void rb_eye(__global const EyeHit* hits, __global const BundleElement* 
       float4 el = eye_irradiance(&h, &eye_light[2 * h.patch], patch_vertices, e_vertex, gouraud, slots, it.chains);
       float4 el_dir = eye_light[2 * h.patch + 1];
       weighted += transfer * make_float3(ed.x, ed.y, ed.z);
-      if (el.x + el.y + el.z > 0.0f)
-        weighted += bsdf_evaluate(&bsdf, n, make_float3(el_dir.x, el_dir.y, el_dir.z), wo).f * make_float3(el.x, el.y, el.z);
+      if (el.x + el.y + el.z > 0.0f) {
+        float3 el_wi = make_float3(el_dir.x, el_dir.y, el_dir.z);
+        weighted += eye_brdf(&bsdf, n, ns, el_wi, wo, bsdf_evaluate(&bsdf, n, el_wi, wo).f) * make_float3(el.x, el.y, el.z);
+      }
     }
   } else if (it.weight_mode == BP_WEIGHTS_PAPER) {
     float log_pstar = paper_log_pstar_step(bsdf.continuation, v.pdf_uv, e0.w);  // (10) at the eye vertex

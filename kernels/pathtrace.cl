@@ -15,6 +15,7 @@ typedef struct {
   BP_GLOBAL const BvhTriangle* triangles;
   BP_GLOBAL const TriangleShading* shading;
   BP_GLOBAL const Material* materials;
+  BP_GLOBAL const float* shading_normals;  // NORMAL corners, 9 floats per triangle (params.shading_normals)
   LightSet lights;  // with the per-patch receivers that light selection reads
 } SceneRefs;
 
@@ -33,13 +34,24 @@ static float last_segment_prefix_beta(const PathTraceParams* params, const PathP
 
 // The four-technique weights of a last segment from the vertex at `depth` (DESIGN.md §3): at the eye
 // vertex under --eye-direct shared, RB's share from the view-independent proxy density; elsewhere
-// the prefix product and PT's true density on both sides. The raw layer's PT-alone weights are the
-// same with no RB share (prefix 0).
+// the prefix product and PT's density about the patch normal on both sides (pdf_bsdf_patch, what RB
+// computes), PT's own share split by its true density (pdf_bsdf, about the shading normal). The raw
+// layer's PT-alone weights are the same with no RB share (prefix 0).
 static LastSegmentWeights pt_last_segment_weights(const PathTraceParams* params, bp_u32 depth, float prefix_beta,
-                                                  float pdf_bsdf, float pdf_proxy, float pdf_light, int is_delta) {
+                                                  float pdf_bsdf_patch, float pdf_bsdf, float pdf_proxy,
+                                                  float pdf_light, int is_delta) {
   if (depth == 0u && prefix_beta > 0.0f)
     return eye_segment_weights(params->weight_ratio, params->rb_light_rate, pdf_proxy, pdf_bsdf, pdf_light, is_delta);
-  return last_segment_weights(prefix_beta, params->weight_ratio, params->rb_light_rate, pdf_bsdf, pdf_light, is_delta);
+  return last_segment_split(prefix_beta, params->weight_ratio, params->rb_light_rate, pdf_bsdf_patch, pdf_bsdf,
+                            pdf_light, is_delta);
+}
+
+// PT's density (uv) of wi given wo about the flat patch normal: the weight input RB can compute
+// (DESIGN.md §3); the same as the sampling density where the shading normal is the flat one.
+static float pdf_uv_patch(const SurfaceHit* surface, const Bsdf* bsdf, float3 wi, float3 wo, float pdf_uv_shading) {
+  if (!BP_FEATURE_SHADING_NORMALS) return pdf_uv_shading;
+  float3 d = surface->shading_normal - surface->normal;
+  return d.x == 0.0f && d.y == 0.0f && d.z == 0.0f ? pdf_uv_shading : bsdf_pdf_uv(bsdf, surface->normal, wi, wo);
 }
 
 // Next-event estimation at a vertex: one light sample, one shadow ray, weighted as the PT light
@@ -50,25 +62,51 @@ static void add_light_sample(const SceneRefs* scene, const PathTraceParams* para
   float u_pick = rng_uniform(rng), u1 = rng_uniform(rng), u2 = rng_uniform(rng);
   float3 x = surface->position + surface->normal * params->ray_epsilon;
   LightSample ls = light_sample(&scene->lights, scene->materials, surface->patch, x, u_pick, u1, u2);
-  float cos_x = dot(surface->normal, ls.wi);
-  if (!(cos_x > 0.0f) || ls.radiance_over_pdf.x + ls.radiance_over_pdf.y + ls.radiance_over_pdf.z <= 0.0f) return;
+  float cos_x = dot(surface->normal, ls.wi);  // geometric: the light must be in front of the surface itself
+  float cos_shading = dot(surface->shading_normal, ls.wi);
+  if (!(cos_x > 0.0f) || !(cos_shading > 0.0f) ||
+      ls.radiance_over_pdf.x + ls.radiance_over_pdf.y + ls.radiance_over_pdf.z <= 0.0f)
+    return;
   // An area light's own surface is at ls.distance: stop the shadow ray a few offsets short of it.
   float t_max = ls.is_delta ? ls.distance : ls.distance - 4.0f * params->ray_epsilon;
   *rays += 1u;
   if (t_max <= 0.0f || bvh_occluded(scene->nodes, scene->triangles, x, ls.wi, t_max)) return;
-  BsdfValue v = bsdf_evaluate(bsdf, surface->normal, ls.wi, wo);
+  BsdfValue v = bsdf_evaluate(bsdf, surface->shading_normal, ls.wi, wo);
   float pdf_bsdf = bsdf->continuation * v.pdf_uv;  // s p_b
+  float pdf_bsdf_patch = bsdf->continuation * pdf_uv_patch(surface, bsdf, ls.wi, wo, v.pdf_uv);
   // f cos L / p_solid  (the light-sampling estimator of the rendering equation's integral)
-  float3 contribution = throughput * v.f * ls.radiance_over_pdf * cos_x;
-  LastSegmentWeights w = pt_last_segment_weights(params, depth, prefix_beta, pdf_bsdf,
+  float3 contribution = throughput * v.f * ls.radiance_over_pdf * cos_shading;
+  LastSegmentWeights w = pt_last_segment_weights(params, depth, prefix_beta, pdf_bsdf_patch, pdf_bsdf,
                                                  eye_direct_proxy_pdf_uv(bsdf, cos_x), ls.pdf_uv, ls.is_delta);
   // The raw layer's PT-alone weights: the same as w without a prefix (pt mode, the eye vertex).
   LastSegmentWeights alone =
-      prefix_beta > 0.0f
-          ? last_segment_weights(0.0f, params->weight_ratio, params->rb_light_rate, pdf_bsdf, ls.pdf_uv, ls.is_delta)
-          : w;
+      prefix_beta > 0.0f ? last_segment_split(0.0f, params->weight_ratio, params->rb_light_rate, pdf_bsdf_patch,
+                                              pdf_bsdf, ls.pdf_uv, ls.is_delta)
+                         : w;
   radiance->weighted += contribution * w.pt_light;
   radiance->raw += contribution * alone.pt_light;
+}
+
+// A ray that leaves the scene sees the uniform environment (--environment), weighted as an emitter:
+// seen from the eye, by the empty prefix as the eye's emission (PT's alone with light sampling, RB's
+// alone under product weights without it, rb_eye); after a bounce, as the PT BSDF technique of the
+// last segment, whose RB bundle technique is the radiance a patch receives where nothing is in front
+// (rb_tile_resolve). No light sample reaches it: p_L = 0.
+static void add_environment(const PathTraceParams* params, const PathPdf* pdf, bp_u32 depth, float3 throughput,
+                            int light_sampling, float last_prefix_beta, float last_pdf_bsdf_patch,
+                            float last_pdf_bsdf, float last_pdf_proxy, PathRadiance* radiance) {
+  float3 seen = throughput * bp_private3(params->environment);
+  if (seen.x + seen.y + seen.z <= 0.0f) return;
+  radiance->raw += seen;
+  if (!light_sampling) {
+    radiance->weighted += seen * pt_emission_weight(pdf, params->weight_mode, params->weight_ratio);
+  } else if (depth == 0u) {
+    radiance->weighted += seen;
+  } else {
+    LastSegmentWeights w = pt_last_segment_weights(params, depth - 1u, last_prefix_beta, last_pdf_bsdf_patch,
+                                                   last_pdf_bsdf, last_pdf_proxy, 0.0f, 0);
+    radiance->weighted += seen * w.pt_bsdf;
+  }
 }
 
 // Radiance of one path (one pixel sample). Counts the rays it traces.
@@ -80,14 +118,20 @@ static PathRadiance trace_path(const SceneRefs* scene, const PathTraceParams* pa
   float3 throughput = make_float3(1.0f, 1.0f, 1.0f);
   PathPdf pdf = path_pdf_start();
   const int light_sampling = BP_FEATURE_LIGHT_SAMPLING && params->light_count > 0u;
-  // Of the vertex that sampled dir: its prefix, s p_b, and the eye vertex's proxy density of dir.
-  float last_prefix_beta = 0.0f, last_pdf_bsdf = 0.0f, last_pdf_proxy = 0.0f;
+  // Of the vertex that sampled dir: its prefix, s p_b (sampled, and about the patch normal), and the
+  // eye vertex's proxy density of dir.
+  float last_prefix_beta = 0.0f, last_pdf_bsdf = 0.0f, last_pdf_bsdf_patch = 0.0f, last_pdf_proxy = 0.0f;
   bp_u32 last_patch = 0u;  // and its patch
   for (bp_u32 depth = 0; depth < params->max_depth; ++depth) {
     Hit hit;
     *rays += 1u;
-    if (!bvh_closest_hit(scene->nodes, scene->triangles, origin, dir, BP_FLOAT_MAX, &hit)) break;
-    SurfaceHit surface = surface_at(scene->shading, hit.triangle, hit.b1, hit.b2, origin + dir * hit.t, dir);
+    if (!bvh_closest_hit(scene->nodes, scene->triangles, origin, dir, BP_FLOAT_MAX, &hit)) {
+      add_environment(params, &pdf, depth, throughput, light_sampling, last_prefix_beta, last_pdf_bsdf_patch,
+                      last_pdf_bsdf, last_pdf_proxy, &radiance);
+      break;
+    }
+    SurfaceHit surface = surface_at_shaded(scene->shading, scene->shading_normals, params->shading_normals,
+                                           hit.triangle, hit.b1, hit.b2, origin + dir * hit.t, dir);
     if (!surface.reflects && !(scene->materials[surface.material].flags & BP_MATERIAL_DOUBLE_SIDED)) break;
     Bsdf bsdf = bsdf_from_material(&scene->materials[surface.material]);
     float3 wo = -dir;
@@ -106,12 +150,12 @@ static PathRadiance trace_path(const SceneRefs* scene, const PathTraceParams* pa
       float pdf_light = light_pdf_uv_area(
           light_pdf_area_from(&scene->lights, scene->materials, last_patch, surface.patch, surface.material), hit.t,
           dot(surface.normal, wo));
-      LastSegmentWeights w = pt_last_segment_weights(params, depth - 1u, last_prefix_beta, last_pdf_bsdf,
-                                                     last_pdf_proxy, pdf_light, 0);
+      LastSegmentWeights w = pt_last_segment_weights(params, depth - 1u, last_prefix_beta, last_pdf_bsdf_patch,
+                                                     last_pdf_bsdf, last_pdf_proxy, pdf_light, 0);
       LastSegmentWeights alone =
-          last_prefix_beta > 0.0f
-              ? last_segment_weights(0.0f, params->weight_ratio, params->rb_light_rate, last_pdf_bsdf, pdf_light, 0)
-              : w;
+          last_prefix_beta > 0.0f ? last_segment_split(0.0f, params->weight_ratio, params->rb_light_rate,
+                                                       last_pdf_bsdf_patch, last_pdf_bsdf, pdf_light, 0)
+                                  : w;
       radiance.weighted += emitted * w.pt_bsdf;
       radiance.raw += emitted * alone.pt_bsdf;
     }
@@ -123,21 +167,26 @@ static PathRadiance trace_path(const SceneRefs* scene, const PathTraceParams* pa
     // Russian roulette on the material-only continuation probability s.
     if (rng_uniform(rng) >= bsdf.continuation) break;
     float u_lobe = rng_uniform(rng), u1 = rng_uniform(rng), u2 = rng_uniform(rng);
-    BsdfSample sample = bsdf_sample(&bsdf, surface.normal, wo, u_lobe, u1, u2);
+    BsdfSample sample = bsdf_sample(&bsdf, surface.shading_normal, wo, u_lobe, u1, u2);
     if (sample.pdf_uv <= 0.0f) break;
-    float cos_theta = dot(surface.normal, sample.wi);
+    float cos_geometric = dot(surface.normal, sample.wi);
+    if (!(cos_geometric > 0.0f)) break;  // below the surface itself: the shading normal's trap (DESIGN.md §6)
+    float cos_theta = dot(surface.shading_normal, sample.wi);
     // f cos / (s p_solid_angle), with p_solid_angle = pdf_uv / 2 pi  (7)
     throughput *= sample.f *
                   (cos_theta * BP_TWO_PI / (bsdf.continuation * sample.pdf_uv));
+    // Every weight input is patch-level (DESIGN.md §3): the density about the flat normal, as RB has it.
+    const float pdf_patch = pdf_uv_patch(&surface, &bsdf, sample.wi, wo, sample.pdf_uv);
     last_prefix_beta = prefix_beta;
     last_pdf_bsdf = bsdf.continuation * sample.pdf_uv;
-    if (depth == 0u) last_pdf_proxy = eye_direct_proxy_pdf_uv(&bsdf, cos_theta);
+    last_pdf_bsdf_patch = bsdf.continuation * pdf_patch;
+    if (depth == 0u) last_pdf_proxy = eye_direct_proxy_pdf_uv(&bsdf, cos_geometric);
     last_patch = surface.patch;
     // Only the weights of the mode need the pdf state: q and r for paper, prod beta for product.
-    if (params->weight_mode == BP_WEIGHTS_PAPER) path_pdf_step(&pdf, bsdf.continuation, sample.pdf_uv);
+    if (params->weight_mode == BP_WEIGHTS_PAPER) path_pdf_step(&pdf, bsdf.continuation, pdf_patch);
     if (params->weight_mode == BP_WEIGHTS_PRODUCT)
       path_pdf_multiply_beta(
-          &pdf, vertex_beta(bsdf.continuation, sample.pdf_uv, params->weight_ratio, params->beta_heuristic));
+          &pdf, vertex_beta(bsdf.continuation, pdf_patch, params->weight_ratio, params->beta_heuristic));
     origin = surface.position + surface.normal * params->ray_epsilon;
     dir = sample.wi;
   }
@@ -149,10 +198,11 @@ __kernel void pathtrace(__global const BvhNode* nodes, __global const BvhTriangl
                         __global const Light* lights, __global const float* light_cdf,
                         const CameraParams camera, const PathTraceParams params,
                         __global PixelAccum* accum, __global const LightTreeNode* light_tree,
-                        __global const LightReceiver* light_receivers, const uint light_selection) {
+                        __global const LightReceiver* light_receivers, const uint light_selection,
+                        __global const float* shading_normals) {
   bp_u32 pixel = (bp_u32)get_global_id(0);
   if (pixel >= camera.width * camera.height) return;
-  SceneRefs scene = {nodes, triangles, shading, materials,
+  SceneRefs scene = {nodes, triangles, shading, materials, shading_normals,
                      light_set(lights, light_cdf, light_tree, light_receivers, params.light_count, light_selection)};
   bp_u32 px = pixel % camera.width, py = pixel / camera.width;
   float3 origin = make_float3(camera.position[0], camera.position[1], camera.position[2]);

@@ -89,8 +89,8 @@ options (defaults in brackets):
                       and bundles (rb) only, as in the paper. Light sampling (next-event
                       estimation in PT, a shadow ray per patch in RB) acts in --mode pt and in
                       --mode combined with product weights; --mode rb and --weights paper/none
-                      never sample lights. Point and spot lights (KHR_lights_punctual) are
-                      reached by light sampling only
+                      never sample lights. Point, spot and directional lights
+                      (KHR_lights_punctual) are reached by light sampling only
   --light-selection S light sampling: how a light is chosen for a receiving patch: tree (a
                       BVH over the lights bounding power, position and orientation; nearby,
                       facing lights are chosen more often) or power (by power alone, the same
@@ -104,6 +104,9 @@ options (defaults in brackets):
   --patch-size M      target patch edge in metres              [scene diagonal / 20]
   --bins R            transillumination buffer R x R bins (rb) [an average patch covers 4 bins]
   --warmup N          ray-bundle iterations before the image starts (rb)  [16]
+  --environment R,G,B uniform environment radiance (W sr^-1 m^-2, linear RGB) that every ray
+                      leaving the scene sees: the background, and light from every open
+                      direction (PT: by BSDF sampling; RB: where no patch is in front)  [0,0,0]
   --rb-shading S      eye estimate: gouraud (interpolated across patches) or flat  [gouraud]
   --stats FILE        write run statistics as JSON
   --checkpoint FILE   save the render's state to FILE every --checkpoint-every seconds [60]
@@ -140,6 +143,18 @@ RenderOptions parse_render_options(const std::vector<std::string>& args) {
       {"--bins", [&](auto& k, auto& v) { o.bins = parse_number<std::uint32_t>(k, v, 1, 16384, "an integer in 1..16384"); }},
       {"--warmup", [&](auto& k, auto& v) {
          o.warmup = parse_number<std::uint32_t>(k, v, 0, 1u << 20, "an integer in 0..1048576");
+       }},
+      {"--environment", [&](auto& k, auto& v) {
+         std::array<float, 3> rgb{};
+         std::size_t start = 0;
+         for (int c = 0; c < 3; ++c) {
+           const std::size_t comma = v.find(',', start);
+           if ((c < 2) != (comma != std::string::npos))
+             throw UsageError(k + ": expected R,G,B (three radiances >= 0), got '" + v + "'");
+           rgb[c] = parse_number<float>(k, v.substr(start, comma - start), 0.0f, 1e30f, "R,G,B (three radiances >= 0)");
+           start = comma + 1;
+         }
+         o.environment = rgb;
        }},
       {"--rb-shading", [&](auto& k, auto& v) {
          if (v != "gouraud" && v != "flat") throw UsageError(k + ": expected gouraud or flat, got '" + v + "'");

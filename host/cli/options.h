@@ -2,6 +2,7 @@
 #pragma once
 #include <cstdint>
 #include <stdexcept>
+#include <array>
 #include <string>
 #include <vector>
 
@@ -44,6 +45,7 @@ struct RenderOptions {
   float patch_size = 0.0f;       // metres; 0: derived from the scene's extent
   std::string stats_path;
   float exposure = 0.0f;         // PNG exposure in stops
+  std::array<float, 3> environment{0.0f, 0.0f, 0.0f};  // --environment R,G,B: uniform radiance, W sr^-1 m^-2
   std::uint32_t max_depth = 65536;
 };
 

@@ -69,6 +69,9 @@ std::string options_key(const RenderOptions& o, int width, int height, float pat
                     ";max_depth=" + std::to_string(o.max_depth) + ";layers=" + (o.all_layers ? "all" : "default") +
                     ";light_sampling=" + (light_sampling_applies(o) ? "on;light_selection=" + o.light_selection : "off") +
                     ";kernels=" + (o.generic_kernels ? "generic" : "specialised");
+  if (o.environment != std::array<float, 3>{0.0f, 0.0f, 0.0f})
+    key += ";environment=" + std::to_string(o.environment[0]) + "," + std::to_string(o.environment[1]) + "," +
+           std::to_string(o.environment[2]);
   if (o.mode != "pt")
     key += ";bins=" + std::to_string(bins) + ";warmup=" + std::to_string(o.warmup) +
            ";shading=" + (o.gouraud ? "gouraud" : "flat");
@@ -112,10 +115,13 @@ int run_render(const RenderOptions& o) {
 
   auto t_load = clock::now();
   Scene scene = load_gltf(o.scene);
-  for (const std::string& w : scene.warnings) std::fprintf(stderr, "bundlepath: warning: %s: %s\n", o.scene.c_str(), w.c_str());
+  scene.environment = glm::vec3(o.environment[0], o.environment[1], o.environment[2]);
+  for (const std::string& w : scene.warnings)
+    if (!(scene.has_environment() && w.rfind("no emitter", 0) == 0))  // the environment lights it
+      std::fprintf(stderr, "bundlepath: warning: %s: %s\n", o.scene.c_str(), w.c_str());
   if (!scene.lights.empty() && !light_sampling_applies(o))
     std::fprintf(stderr,
-                 "bundlepath: warning: %s: %zu point/spot light(s) are reached by light sampling only, which this run "
+                 "bundlepath: warning: %s: %zu point/spot/directional light(s) are reached by light sampling only, which this run "
                  "does not use (--mode pt or --mode combined with product weights, without --no-light-sampling): "
                  "they stay dark\n",
                  o.scene.c_str(), scene.lights.size());
@@ -212,7 +218,8 @@ int run_render(const RenderOptions& o) {
     rb_settings.light_rate = light_rate;
     rb_settings.keep_raw = o.all_layers;
     try {
-      check_bundle_memory(device.info, size, rb_settings.bins, std::size_t(width) * height, bundle_chains(rb_settings));
+      check_bundle_memory(device.info, size, rb_settings.bins, std::size_t(width) * height, bundle_chains(rb_settings),
+                          scene.has_shading_normals());
     } catch (const std::invalid_argument& e) {
       throw UsageError(e.what());
     }
@@ -468,7 +475,8 @@ int run_render(const RenderOptions& o) {
       stats["ms_per_iteration"] = rb_iterations && !shape ? outcome.seconds * 1e3 / iterations : 0.0;
       stats["fragments_per_second"] = outcome.seconds > 0 ? double(outcome.fragments) / outcome.seconds : 0.0;
       stats["rb_device_bytes_estimate"] = estimate_bundle_memory(bundle_size(scene, patches), rb->bins(),
-                                                                 std::size_t(width) * height, bundle_chains(rb_settings));
+                                                                 std::size_t(width) * height, bundle_chains(rb_settings),
+                                                                 scene.has_shading_normals());
       stats["rb_chains"] = bundle_chains(rb_settings);
     }
     if (reference) stats["reference"] = {{"path", o.reference_path}, {"layers", metrics}};

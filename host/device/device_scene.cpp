@@ -44,6 +44,20 @@ std::vector<TriangleShading> pack_triangle_shading(const Scene& scene, const Pat
   return out;
 }
 
+std::vector<float> pack_shading_normals(const Scene& scene) {
+  std::vector<float> out;
+  if (!scene.has_shading_normals()) return out;
+  out.reserve(9 * scene.triangles.size());
+  for (const SceneTriangle& t : scene.triangles) {
+    const glm::vec3 flat = glm::normalize(glm::cross(t.p[1] - t.p[0], t.p[2] - t.p[0]));
+    for (int k = 0; k < 3; ++k) {
+      const glm::vec3 n = t.has_normals ? t.normal[k] : flat;
+      out.insert(out.end(), {n.x, n.y, n.z});
+    }
+  }
+  return out;
+}
+
 CameraParams pack_camera(const SceneCamera& camera, int width, int height) {
   CameraParams p{};
   glm::vec3 forward = glm::normalize(camera.forward);
@@ -97,6 +111,10 @@ DeviceScene::DeviceScene(const DeviceContext& device, const Scene& scene, const 
   const std::vector<Material> materials_in = pack_materials(scene, light_list);
   const std::vector<Light> lights_in = at_least_one(light_list.lights);
   const std::vector<float> cdf_in = at_least_one(light_list.cdf);
+  std::vector<float> normals_in = pack_shading_normals(scene);
+  has_shading_normals = normals_in.empty() ? 0u : 1u;
+  for (int c = 0; c < 3; ++c) environment[c] = scene.environment[c];
+  normals_in = at_least_one(std::move(normals_in));
   nodes = upload_buffer(device, "bvh nodes", bvh.nodes);
   triangles = upload_buffer(device, "bvh triangles", bvh.triangles);
   shading = upload_buffer(device, "triangle shading", shading_in);
@@ -105,13 +123,15 @@ DeviceScene::DeviceScene(const DeviceContext& device, const Scene& scene, const 
   light_cdf = upload_buffer(device, "light cdf", cdf_in);
   light_tree = upload_buffer(device, "light tree", tree_in);
   light_receivers = upload_buffer(device, "light receivers", receivers_in);
+  shading_normals = upload_buffer(device, "shading normals", normals_in);
   triangle_count = shading_in.size();
   node_count = bvh.nodes.size();
   light_count = std::uint32_t(light_list.lights.size());
   bytes = bvh.nodes.size() * sizeof(BvhNode) + bvh.triangles.size() * sizeof(BvhTriangle) +
           shading_in.size() * sizeof(TriangleShading) + materials_in.size() * sizeof(Material) +
           lights_in.size() * sizeof(Light) + cdf_in.size() * sizeof(float) +
-          tree_in.size() * sizeof(LightTreeNode) + receivers_in.size() * sizeof(LightReceiver);
+          tree_in.size() * sizeof(LightTreeNode) + receivers_in.size() * sizeof(LightReceiver) +
+          normals_in.size() * sizeof(float);
 }
 
 }  // namespace bp

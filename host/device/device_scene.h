@@ -15,6 +15,9 @@ namespace bp {
 // Host-side packing, separate from upload so it can be tested without a device.
 std::vector<Material> pack_materials(const Scene& scene, const LightList& lights);
 std::vector<TriangleShading> pack_triangle_shading(const Scene& scene, const PatchLayout& patches);
+// Per triangle its three corners' shading normals (9 floats, front side; the flat normal where the
+// triangle has no NORMAL), or nothing when no triangle has them (the kernels then never read them).
+std::vector<float> pack_shading_normals(const Scene& scene);
 CameraParams pack_camera(const SceneCamera& camera, int width, int height);
 // Offset for secondary rays: relative to the scene's size and coordinate magnitude, so it works at
 // every scale (1e-3 to 1e4 m).
@@ -23,6 +26,9 @@ float ray_epsilon_for(const Bounds& bounds);
 struct DeviceScene {
   cl::Buffer nodes, triangles, shading, materials;
   cl::Buffer lights, light_cdf;  // one dummy entry each when the scene has no light to sample
+  cl::Buffer shading_normals;  // pack_shading_normals (one dummy entry without them)
+  std::uint32_t has_shading_normals = 0;  // 1: the kernels interpolate shading_normals
+  float environment[3] = {0.0f, 0.0f, 0.0f};  // Scene::environment, for the passes' parameters
   cl::Buffer light_tree, light_receivers;  // tree selection only (else one dummy entry each); receivers per patch
   std::uint32_t light_selection = BP_LIGHT_SELECTION_TREE;  // BP_LIGHT_SELECTION_*, the same for PT and RB
   std::size_t triangle_count = 0, node_count = 0;

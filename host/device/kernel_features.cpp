@@ -7,12 +7,14 @@ KernelFeatures features_for(const Scene& scene, bool light_sampling) {
   f.phong = false;
   for (const SceneMaterial& m : scene.materials) f.phong = f.phong || m.ks.x > 0.0f || m.ks.y > 0.0f || m.ks.z > 0.0f;
   f.light_sampling = light_sampling;
+  f.shading_normals = scene.has_shading_normals();
   return f;
 }
 
 std::string kernel_options(const KernelFeatures& f) {
   return std::string("-DBP_FEATURE_PHONG=") + (f.phong ? "1" : "0") +
-         " -DBP_FEATURE_LIGHT_SAMPLING=" + (f.light_sampling ? "1" : "0");
+         " -DBP_FEATURE_LIGHT_SAMPLING=" + (f.light_sampling ? "1" : "0") +
+         " -DBP_FEATURE_SHADING_NORMALS=" + (f.shading_normals ? "1" : "0");
 }
 
 }  // namespace bp

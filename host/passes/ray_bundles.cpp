@@ -73,19 +73,20 @@ std::uint32_t bundle_chains(const RayBundleSettings& settings) {
          (product && settings.keep_raw ? 1u : 0u);
 }
 
-std::size_t estimate_bundle_memory(const BundleSize& size, std::uint32_t bins, std::size_t pixels, std::uint32_t chains) {
+std::size_t estimate_bundle_memory(const BundleSize& size, std::uint32_t bins, std::size_t pixels, std::uint32_t chains,
+                                   bool shading_normals) {
   std::size_t tiles_per_side = bundle_tiles_per_side(bins + 1), tiles = tiles_per_side * tiles_per_side + 1;
   return slot_estimate(size, bins) * kSlotBytes + tiled_capacity(size, bins, chains) * tiled_fragment_bytes(chains) +
          tiles * 2 * sizeof(cl_uint) + size.patches * (4 * sizeof(cl_uint) + 2 * chains * sizeof(cl_float4)) +
          size.patches * 5 * sizeof(cl_float4) +  // the eye vertex's light samples and their Gouraud vertices (at most)
          size.elements * (sizeof(BundleElement) + 2 * sizeof(cl_uint)) +
          size.patches * 3 * (sizeof(cl_uint) + chains * sizeof(cl_float4)) +  // Gouraud vertices (at most 3 per patch)
-         pixels * (sizeof(EyeHit) + 2 * sizeof(cl_float4));
+         pixels * (sizeof(EyeHit) + 2 * sizeof(cl_float4) + (shading_normals ? sizeof(cl_float4) : 0));
 }
 
 void check_bundle_memory(const DeviceInfo& device, const BundleSize& size, std::uint32_t bins, std::size_t pixels,
-                         std::uint32_t chains) {
-  const std::size_t need = estimate_bundle_memory(size, bins, pixels, chains);
+                         std::uint32_t chains, bool shading_normals) {
+  const std::size_t need = estimate_bundle_memory(size, bins, pixels, chains, shading_normals);
   const std::size_t largest = std::max(tiled_capacity(size, bins, chains) * chains * sizeof(cl_float4),
                                        slot_estimate(size, bins) * sizeof(cl_uint));
   // Leave a quarter of the device for the scene, the path tracer and the driver.
@@ -166,6 +167,8 @@ RayBundlePass::RayBundlePass(const DeviceContext& device, const DeviceScene& sce
   device.queue.enqueueFillBuffer(tile_counts_, cl_uint(0), 0, tile_count_ * sizeof(cl_uint));
   device.queue.enqueueFillBuffer(fragment_total_, cl_ulong(0), 0, sizeof(cl_ulong));
   eye_hits_buffer_ = make_buffer(device, "eye hits", CL_MEM_READ_WRITE, pixel_count_ * sizeof(EyeHit));
+  eye_normals_ = make_buffer(device, "eye hit shading normals", CL_MEM_READ_WRITE,
+                             (scene.has_shading_normals ? pixel_count_ : 1) * sizeof(cl_float4));
   pixel_sum_ =
       make_buffer(device, "eye estimate sums", CL_MEM_READ_WRITE, pixel_count_ * eye_outputs_ * sizeof(cl_float4));
   device.queue.enqueueFillBuffer(e_in_, cl_float4{{0, 0, 0, 0}}, 0, patch_count_ * chains_ * sizeof(cl_float4));
@@ -228,6 +231,8 @@ BundleIteration RayBundlePass::iteration_params(std::uint64_t iteration) const {
   it.direct_chain = samples_lights(settings_) ? 1u : 0u;
   it.eye_direct_chain = shares_eye_direct(settings_) ? 2u : 0u;
   it.contact_depth = settings_.contact_depth_fraction * 2.0f * radius_;
+  it.shading_normals = scene_.has_shading_normals;
+  for (int c = 0; c < 3; ++c) it.environment[c] = scene_.environment[c];
   return it;
 }
 
@@ -282,7 +287,7 @@ BatchCounts RayBundlePass::run(std::uint64_t first, std::uint32_t count) {
       launcher_.launch("rb_vertex", vertex_, vertex_count_, 64);
     }
     set_args(eye_, eye_hits_buffer_, elements_, patch_element_, scene_.materials, e_in_, patch_vertices_, e_vertex_,
-             cl_uint(settings_.gouraud ? 1 : 0), it, as_uint(pixel_count_), pixel_sum_, eye_light_);
+             cl_uint(settings_.gouraud ? 1 : 0), it, as_uint(pixel_count_), pixel_sum_, eye_light_, eye_normals_);
     launcher_.launch("rb_eye", eye_, pixel_count_, 64);
     // The device sums the eye estimates in float: move them to the host's double sums after every
     // max_batch() iterations (on multiples of it, wherever a batch starts) and at the batch's end, so
@@ -329,7 +334,8 @@ std::vector<T> read_all(const DeviceContext& device, Launcher& launcher, const c
 
 void RayBundlePass::trace_eye_hits(std::uint64_t jitter_index) {
   set_args(eye_hits_, scene_.nodes, scene_.triangles, scene_.shading, scene_.materials, camera_,
-           cl_uint(settings_.seed ^ 0x5eed0e7eu), cl_uint(jitter_index), eye_hits_buffer_);
+           cl_uint(settings_.seed ^ 0x5eed0e7eu), cl_uint(jitter_index), eye_hits_buffer_, scene_.shading_normals,
+           cl_uint(scene_.has_shading_normals), eye_normals_);
   launcher_.launch("rb_eye_hits", eye_hits_, pixel_count_, 64);
 }
 

@@ -98,6 +98,8 @@ bool ignore_image(tinygltf::Image*, const int, std::string*, std::string*, int, 
 struct LocalTriangle {
   glm::vec3 p[3];
   std::uint32_t material;
+  bool has_normals = false;
+  glm::vec3 normal[3]{};  // NORMAL, local space
 };
 
 class Loader {
@@ -435,8 +437,13 @@ class Loader {
         const float metallic = float(pbr.metallicFactor);
         const auto* sf = extension(m.extensions, "KHR_materials_specular", "specularFactor");
         const float specular = sf && sf->IsNumber() ? float(sf->GetNumberAsDouble()) : 1.0f;
+        // Blender's exporter writes specularColorFactor [0, 0, 0] for Specular 0: pure Lambert.
+        const auto* scf = extension(m.extensions, "KHR_materials_specular", "specularColorFactor");
+        const glm::vec3 specular_colour =
+            scf ? rgb(*scf, obj + " KHR_materials_specular.specularColorFactor") : glm::vec3(1.0f);
         out.kd = base * (1.0f - metallic);
-        out.ks = metallic * base + (1.0f - metallic) * 0.04f * specular;
+        // KHR_materials_specular: the dielectric F0 is 0.04 specularFactor specularColorFactor
+        out.ks = metallic * base + (1.0f - metallic) * 0.04f * specular * specular_colour;
         const double a = double(pbr.roughnessFactor) * pbr.roughnessFactor;
         const double n = a > 0.0 ? 2.0 / (a * a) - 2.0 : 1e6;
         out.shininess = float(std::clamp(n, 0.0, 1e6));
@@ -517,6 +524,22 @@ class Loader {
           fail(accessor_name(pos_it->second, pos_role) + " holds a non-finite position at element " +
                std::to_string(i));
       }
+      // NORMAL (glTF: unit VEC3 float, one per POSITION): the shading normals (DESIGN.md §6).
+      std::vector<glm::vec3> normals;
+      if (auto normal_it = prim.attributes.find("NORMAL"); normal_it != prim.attributes.end()) {
+        const std::string role = "NORMAL of " + obj;
+        const auto n_raw = read_accessor(normal_it->second, role, TINYGLTF_TYPE_VEC3, {TINYGLTF_COMPONENT_TYPE_FLOAT});
+        if (n_raw.size() != raw.size())
+          fail(accessor_name(normal_it->second, role) + " has " + std::to_string(n_raw.size() / 3) +
+               " elements, but POSITION has " + std::to_string(pos.size()));
+        normals.resize(pos.size());
+        for (std::size_t i = 0; i < normals.size(); ++i) {
+          normals[i] = glm::vec3(float(n_raw[3 * i]), float(n_raw[3 * i + 1]), float(n_raw[3 * i + 2]));
+          if (!std::isfinite(normals[i].x) || !std::isfinite(normals[i].y) || !std::isfinite(normals[i].z))
+            fail(accessor_name(normal_it->second, role) + " holds a non-finite normal at element " +
+                 std::to_string(i));
+        }
+      }
       std::vector<std::uint32_t> idx;
       if (prim.indices >= 0) {
         const std::string role = "indices of " + obj;
@@ -530,7 +553,14 @@ class Loader {
         for (std::size_t i = 0; i < idx.size(); ++i) idx[i] = std::uint32_t(i);
       }
       auto emit = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
-        tris.push_back(LocalTriangle{{pos[a], pos[b], pos[c]}, material});
+        LocalTriangle t{{pos[a], pos[b], pos[c]}, material};
+        if (!normals.empty()) {
+          t.has_normals = true;
+          t.normal[0] = normals[a];
+          t.normal[1] = normals[b];
+          t.normal[2] = normals[c];
+        }
+        tris.push_back(t);
       };
       const std::size_t n = idx.size();
       if (prim.mode == kModeTriangles) {
@@ -662,9 +692,20 @@ class Loader {
       fail(obj + " refers to mesh " + std::to_string(node.mesh) + ", but the file has " +
            std::to_string(model_.meshes.size()) + " meshes");
     const bool flip = glm::determinant(glm::dmat3(world)) < 0.0;  // mirrored: keep fronts in front
+    const glm::dmat3 normal_matrix = glm::transpose(glm::inverse(glm::dmat3(world)));  // normals: inverse transpose
     for (const LocalTriangle& t : mesh_triangles(node.mesh)) {
       SceneTriangle out;
       for (int k = 0; k < 3; ++k) out.p[k] = glm::vec3(world * glm::dvec4(glm::dvec3(t.p[k]), 1.0));
+      if (t.has_normals) {
+        out.has_normals = true;
+        for (int k = 0; k < 3; ++k) {
+          const glm::dvec3 n = normal_matrix * glm::dvec3(t.normal[k]);
+          const double len = glm::length(n);
+          // a zero NORMAL (or one the transform crushes) leaves that corner to the flat normal, set below
+          out.normal[k] = len > 0.0 && std::isfinite(len) ? glm::vec3(n / len) : glm::vec3(0.0f);
+        }
+        if (flip) std::swap(out.normal[1], out.normal[2]);
+      }
       if (flip) std::swap(out.p[1], out.p[2]);
       out.material = t.material;
       const glm::dvec3 a(out.p[0]), b(out.p[1]), c(out.p[2]);
@@ -676,6 +717,14 @@ class Loader {
       if (!(cross > 1e-10 * longest * longest)) {  // zero area (up to float noise of collinear points)
         ++degenerate_;
         continue;
+      }
+      if (out.has_normals) {
+        const glm::vec3 flat = glm::vec3(glm::normalize(glm::cross(b - a, c - a)));
+        for (glm::vec3& n : out.normal)
+          if (n == glm::vec3(0.0f)) {
+            n = flat;
+            ++zero_normals_;
+          }
       }
       scene_.triangles.push_back(out);
     }
@@ -709,8 +758,9 @@ class Loader {
     camera_found_ = true;
   }
 
-  // KHR_lights_punctual: position from the node, direction its -z; intensity in candela (lm/sr),
-  // made radiometric (W/sr) at 683 lm/W -- the factor Blender's exporter multiplies watts by.
+  // KHR_lights_punctual: position from the node, direction its -z; intensity in candela (lm/sr) or,
+  // for directional lights, lux (lm/m^2), made radiometric (W/sr, W/m^2) at 683 lm/W -- the factor
+  // Blender's exporter multiplies watts by (a sun's W/m^2 alike).
   static constexpr double kLumensPerWatt = 683.0;
   void take_light(int l, int n, const glm::dmat4& world) {
     const std::string obj = "KHR_lights_punctual light " + std::to_string(l);
@@ -719,14 +769,13 @@ class Loader {
            std::to_string(model_.lights.size()) + " lights");
     const auto& light = model_.lights[l];
     const std::string name = obj + quoted(light.name);
-    if (light.type == "directional") {
-      scene_.warnings.push_back(name + " is directional; only point and spot lights are supported, ignored");
-      return;
-    }
-    if (light.type != "point" && light.type != "spot") fail(name + " has unknown type \"" + light.type + "\"");
+    if (light.type != "point" && light.type != "spot" && light.type != "directional")
+      fail(name + " has unknown type \"" + light.type + "\"");
     ScenePunctualLight out;
     out.name = light.name;
-    out.kind = light.type == "spot" ? ScenePunctualLight::Kind::spot : ScenePunctualLight::Kind::point;
+    out.kind = light.type == "spot"          ? ScenePunctualLight::Kind::spot
+               : light.type == "directional" ? ScenePunctualLight::Kind::directional
+                                             : ScenePunctualLight::Kind::point;
     glm::dvec3 colour(1.0);
     if (!light.color.empty()) {
       if (light.color.size() != 3) fail(name + " color is not an array of 3 numbers");
@@ -768,6 +817,9 @@ class Loader {
                                 "the extra indices are ignored");
     if (degenerate_)
       scene_.warnings.push_back("dropped " + std::to_string(degenerate_) + " degenerate (zero-area) triangle(s)");
+    if (zero_normals_)
+      scene_.warnings.push_back(std::to_string(zero_normals_) +
+                                " triangle corner(s) have a zero NORMAL; the flat normal is used there");
     if (scene_.triangles.empty()) fail("scene has no triangles");
     for (const auto& t : scene_.triangles)
       for (const auto& p : t.p) scene_.bounds.grow(p);
@@ -792,7 +844,7 @@ class Loader {
   Scene scene_;
   std::map<int, std::vector<LocalTriangle>> mesh_cache_;
   std::map<int, std::size_t> skipped_modes_;
-  std::size_t primitives_without_position_ = 0, ragged_triangle_lists_ = 0, degenerate_ = 0;
+  std::size_t primitives_without_position_ = 0, ragged_triangle_lists_ = 0, degenerate_ = 0, zero_normals_ = 0;
   bool camera_found_ = false;
 };
 

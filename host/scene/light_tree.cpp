@@ -242,18 +242,24 @@ struct Builder {
 
 std::vector<LightTreeNode> build_light_tree(LightList& lights, const Scene& scene, float offset) {
   Builder b{lights, {}, {}, {}};
-  const std::size_t n = lights.lights.size();
+  // Directional lights (last in the list) have no place: light selection picks them outside the
+  // tree, by power (kernels/shared/lights.h); the tree holds the others.
+  const std::size_t all = lights.lights.size();
+  std::size_t n = 0;
+  while (n < all && lights.lights[n].type != BP_LIGHT_DIRECTIONAL) ++n;
   if (n == 0) return {};
   b.light_bounds.reserve(n);
-  for (const Light& l : lights.lights)
+  for (std::size_t k = 0; k < n; ++k) {
+    const Light& l = lights.lights[k];
     b.light_bounds.push_back(bounds_of(l, l.type == BP_LIGHT_TRIANGLE && scene.materials[l.material].double_sided));
+  }
   b.order.resize(n);
   std::iota(b.order.begin(), b.order.end(), 0u);
   b.nodes.reserve(2 * n);
   b.build(0, n, 0, 0);
   for (LightTreeNode& node : b.nodes) node.receiver_offset = offset;
   // Renumber the lights in tree order, so that a leaf's lights are consecutive.
-  std::vector<Light> renumbered(n);
+  std::vector<Light> renumbered(lights.lights);
   std::vector<std::uint32_t> new_index(n);
   for (std::size_t k = 0; k < n; ++k) {
     renumbered[k] = lights.lights[b.order[k]];
@@ -263,9 +269,9 @@ std::vector<LightTreeNode> build_light_tree(LightList& lights, const Scene& scen
   for (std::uint32_t& l : lights.light_of_triangle)
     if (l != BP_NO_LIGHT) l = new_index[l];
   double running = 0.0;
-  for (std::size_t k = 0; k < n; ++k) {
+  for (std::size_t k = 0; k < all; ++k) {
     running += double(lights.lights[k].select_probability);
-    lights.cdf[k] = k + 1 == n ? 1.0f : float(running);
+    lights.cdf[k] = k + 1 == all ? 1.0f : float(running);
   }
   return b.nodes;
 }

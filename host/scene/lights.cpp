@@ -41,7 +41,14 @@ LightList build_light_list(const Scene& scene) {
     out.lights.push_back(l);
     power.push_back(exitance[t.material] * double(l.area));
   }
-  for (const ScenePunctualLight& p : scene.lights) {
+  const double scene_radius = 0.5 * double(glm::length(scene.bounds.extent()));
+  std::vector<const ScenePunctualLight*> punctual;  // point and spot lights, then directional ones (lights.h)
+  for (const ScenePunctualLight& p : scene.lights)
+    if (p.kind != ScenePunctualLight::Kind::directional) punctual.push_back(&p);
+  for (const ScenePunctualLight& p : scene.lights)
+    if (p.kind == ScenePunctualLight::Kind::directional) punctual.push_back(&p);
+  for (const ScenePunctualLight* light : punctual) {
+    const ScenePunctualLight& p = *light;
     Light l{};
     store3(l.position, p.position);
     store3(l.axis, p.direction);
@@ -49,7 +56,10 @@ LightList build_light_list(const Scene& scene) {
     l.cos_inner = std::cos(p.inner_cone);
     l.cos_outer = std::cos(p.outer_cone);
     double solid_angle = 4.0 * M_PI;
-    if (p.kind == ScenePunctualLight::Kind::spot) {
+    if (p.kind == ScenePunctualLight::Kind::directional) {
+      l.type = BP_LIGHT_DIRECTIONAL;
+      solid_angle = M_PI * scene_radius * scene_radius;  // not a solid angle: the area E falls on (a heuristic)
+    } else if (p.kind == ScenePunctualLight::Kind::spot) {
       l.type = BP_LIGHT_SPOT;
       // the cone out to the middle of the falloff: a selection heuristic, not part of the estimate
       solid_angle = 2.0 * M_PI * (1.0 - 0.5 * (double(l.cos_inner) + double(l.cos_outer)));

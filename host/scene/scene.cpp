@@ -11,4 +11,8 @@ std::size_t Scene::emissive_triangles() const {
   }));
 }
 
+bool Scene::has_shading_normals() const {
+  return std::any_of(triangles.begin(), triangles.end(), [](const SceneTriangle& t) { return t.has_normals; });
+}
+
 }  // namespace bp

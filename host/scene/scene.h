@@ -21,17 +21,21 @@ struct SceneMaterial {
 struct SceneTriangle {
   glm::vec3 p[3];              // world space, metres, counter-clockwise = front
   std::uint32_t material = 0;
+  // glTF NORMAL at the corners, world space, unit, front side; interpolated for shading (DESIGN.md §6)
+  bool has_normals = false;
+  glm::vec3 normal[3]{};
 };
 
-// A KHR_lights_punctual light. glTF gives intensity in candela; the loader converts it to radiant
-// intensity (W sr^-1) at 683 lm/W. No range cut-off: the inverse square law everywhere.
+// A KHR_lights_punctual light. glTF gives intensity in candela (point, spot) or lux (directional);
+// the loader converts it to radiant intensity (W sr^-1) or irradiance (W m^-2) at 683 lm/W. No range
+// cut-off: the inverse square law everywhere.
 struct ScenePunctualLight {
-  enum class Kind { point, spot };
+  enum class Kind { point, spot, directional };
   Kind kind = Kind::point;
   std::string name;
-  glm::vec3 position{0.0f};
-  glm::vec3 direction{0.0f, 0.0f, -1.0f};  // unit; spot: the cone's axis
-  glm::vec3 intensity{1.0f};               // colour times intensity, W sr^-1
+  glm::vec3 position{0.0f};                // point, spot
+  glm::vec3 direction{0.0f, 0.0f, -1.0f};  // unit; spot: the cone's axis; directional: where the light travels
+  glm::vec3 intensity{1.0f};               // colour times intensity: W sr^-1 (point, spot), W m^-2 (directional)
   float inner_cone = 0.0f;                 // spot: radians, full intensity within
   float outer_cone = 0.7853982f;           // spot: radians, no light beyond
 };
@@ -58,11 +62,14 @@ struct Scene {
   std::vector<SceneTriangle> triangles;
   std::vector<SceneMaterial> materials;  // index 0: the default material; file material i is at i + 1
   std::vector<ScenePunctualLight> lights;
+  glm::vec3 environment{0.0f};           // uniform radiance of every direction that leaves the scene, W sr^-1 m^-2
   SceneCamera camera;
   Bounds bounds;
   std::vector<std::string> warnings;     // things the loader accepted but a user should know
   std::size_t emissive_triangles() const;
-  bool has_light() const { return emissive_triangles() > 0 || !lights.empty(); }
+  bool has_shading_normals() const;      // some triangle has NORMAL corners
+  bool has_environment() const { return environment.x > 0.0f || environment.y > 0.0f || environment.z > 0.0f; }
+  bool has_light() const { return emissive_triangles() > 0 || !lights.empty() || has_environment(); }
 };
 
 }  // namespace bp

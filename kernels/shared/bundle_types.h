@@ -55,6 +55,8 @@ typedef struct {
   bp_u32 beta_heuristic;  // BP_BETA_*: the per-vertex beta of product weights (kernels/shared/weights.h)
   float light_rate;       // probability that a patch traces its light sample in an iteration (in (0, 1])
   bp_u32 eye_direct_chain;  // the chain of direct light weighted for the eye vertex (--eye-direct shared), 0: none
+  bp_u32 shading_normals;   // 1: the eye gather reflects with the eye hits' shading normals (rb_eye_hits)
+  float environment[3];     // uniform radiance arriving where no fragment is in front (--environment)
   float contact_depth;      // metres: consecutive fragments of a bin closer than this along omega touch (no transfer)
 } BundleIteration;
 
@@ -70,7 +72,7 @@ typedef struct {
 // One cached primary hit per pixel: the patch the eye sees and where on it.
 typedef struct {
   bp_u32 patch;           // BP_NO_PATCH: the ray left the scene or hit a black back side
-  bp_u32 element;
+  bp_u32 element;         // with patch BP_NO_PATCH: BP_NO_PATCH where the ray left the scene (sees the environment)
   float l1, l2;           // barycentrics within the element (weights of its corners 1 and 2)
   float wo[3];            // towards the eye
   float pad0;

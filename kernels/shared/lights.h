@@ -1,5 +1,5 @@
 // Light sampling (DESIGN.md §3, "Light sampling as a strategy"): the scene's lights -- emissive
-// triangles and KHR_lights_punctual point and spot lights -- chosen for the receiving patch by the
+// triangles and KHR_lights_punctual point, spot and directional lights -- chosen for the receiving patch by the
 // light tree (light_tree.h) or by power alone, and the density of the direction a light sample
 // takes, in the uv measure (eq. 7) like every other density.
 #ifndef BP_SHARED_LIGHTS_H
@@ -11,6 +11,7 @@
 #define BP_LIGHT_TRIANGLE 0u
 #define BP_LIGHT_POINT 1u
 #define BP_LIGHT_SPOT 2u
+#define BP_LIGHT_DIRECTIONAL 3u  // a sun: parallel light of irradiance `intensity` (W m^-2) along `axis`; last in the list
 
 #define BP_LIGHT_SELECTION_TREE 0u   // by the light tree, for the receiving patch (--light-selection tree)
 #define BP_LIGHT_SELECTION_POWER 1u  // by power alone, the same for every receiver
@@ -24,9 +25,9 @@ typedef struct {
   bp_u32 material;       // triangle: its material (emission, sides)
   float edge2[3];        // triangle: p2 - p0
   float area;            // triangle: area, m^2
-  float axis[3];         // triangle: unit front normal; spot: unit direction of the cone
+  float axis[3];         // triangle: unit front normal; spot: unit direction of the cone; directional: of travel
   float select_probability;  // by power
-  float intensity[3];    // point, spot: radiant intensity I per colour, W sr^-1 (glTF: candela)
+  float intensity[3];    // point, spot: radiant intensity I per colour, W sr^-1 (glTF: candela); directional: E, W m^-2 (lux)
   float cos_outer;       // spot: cos of the outer cone angle (no light beyond)
   float cos_inner;       // spot: cos of the inner cone angle (full intensity within)
   bp_u32 tree_trail[2];  // its leaf's path from the light tree's root: bit k set = second child at depth k
@@ -39,7 +40,7 @@ typedef struct {
   float distance;        // from x to the sampled point (the shadow ray's length)
   float3 radiance_over_pdf;  // incident radiance over the solid-angle density of wi: the estimator's L/p
   float pdf_uv;          // density of wi in the uv measure (2 pi p_solid); unused for a delta light
-  int is_delta;          // point and spot lights: only light sampling reaches them
+  int is_delta;          // point, spot and directional lights: only light sampling reaches them
 } LightSample;
 
 // Index of the light whose cdf interval holds u (cdf[i] = sum of select probabilities up to i).
@@ -128,12 +129,44 @@ BP_FN LightPick light_leaf_pick(const LightSet* set, BP_GLOBAL const LightTreeNo
   return pick;
 }
 
+// Directional lights have no position for the tree to bound: they are the lights after the tree's,
+// chosen with their share of the power (select_probability) for every receiver, the tree's lights
+// with the rest. Their total share, and the index of the first of them (count: none).
+BP_FN float light_directional_share(const LightSet* set, bp_u32* first) {
+  float share = 0.0f;
+  bp_u32 i = set->count;
+  while (i > 0u && set->lights[i - 1u].type == BP_LIGHT_DIRECTIONAL) share += set->lights[--i].select_probability;
+  *first = i;
+  return share;
+}
+
 // A light for the receiving patch, and its selection probability.
 BP_FN LightPick light_select(const LightSet* set, bp_u32 receiver_patch, float u) {
   if (set->selection == BP_LIGHT_SELECTION_TREE) {
+    bp_u32 first_directional;
+    const float directional = light_directional_share(set, &first_directional);
+    if (first_directional < set->count && (u < directional || first_directional == 0u)) {
+      // by power among the directional lights; where they are all the lights, they share the whole
+      const float total = first_directional == 0u ? directional : 1.0f;
+      float target = first_directional == 0u ? u * directional : u, running = 0.0f;
+      LightPick pick;
+      pick.light = set->count - 1u;
+      for (bp_u32 i = first_directional; i < set->count; ++i) {
+        running += set->lights[i].select_probability;
+        if (target < running) {
+          pick.light = i;
+          break;
+        }
+      }
+      pick.probability = set->lights[pick.light].select_probability / total;
+      return pick;
+    }
+    const float tree_share = 1.0f - directional;
+    if (directional > 0.0f) u = fmin(fmax((u - directional) / tree_share, 0.0f), 0.99999994f);
     LightTreeLeaf leaf = light_tree_select(set->tree, &set->receivers[receiver_patch], u);
     LightPick pick = light_leaf_pick(set, &set->tree[leaf.node], leaf.u, BP_NO_LIGHT);
     pick.probability *= leaf.probability;
+    if (directional > 0.0f) pick.probability *= tree_share;
     return pick;
   }
   LightPick pick;
@@ -146,10 +179,14 @@ BP_FN LightPick light_select(const LightSet* set, bp_u32 receiver_patch, float u
 BP_FN float light_select_probability(const LightSet* set, bp_u32 receiver_patch, bp_u32 light) {
   BP_GLOBAL const Light* l = &set->lights[light];
   if (set->selection != BP_LIGHT_SELECTION_TREE) return l->select_probability;
+  bp_u32 first_directional;
+  const float directional = light_directional_share(set, &first_directional);
+  if (l->type == BP_LIGHT_DIRECTIONAL) return l->select_probability / (first_directional == 0u ? directional : 1.0f);
   bp_u32 leaf = 0u;
   float p = light_tree_probability(set->tree, &set->receivers[receiver_patch], l->tree_trail[0], l->tree_trail[1],
                                    l->tree_depth, &leaf);
-  return light_leaf_pick(set, &set->tree[leaf], 0.0f, light).probability * p;
+  p = light_leaf_pick(set, &set->tree[leaf], 0.0f, light).probability * p;
+  return directional > 0.0f ? p * (1.0f - directional) : p;
 }
 
 // Light sampling's area density on the emitter that patch emitter_patch is part of, as seen from
@@ -178,6 +215,10 @@ BP_FN LightSample light_sample(const LightSet* set, BP_GLOBAL const Material* ma
   float3 to_light = target - x;
   s.distance = length(to_light);
   s.wi = to_light / s.distance;
+  if (l->type == BP_LIGHT_DIRECTIONAL) {  // towards the sun, as far as any ray goes
+    s.wi = -bp_load3(l->axis);
+    s.distance = BP_FLOAT_MAX;
+  }
   s.is_delta = l->type != BP_LIGHT_TRIANGLE;
   s.radiance_over_pdf = make_float3(0.0f, 0.0f, 0.0f);
   s.pdf_uv = 0.0f;
@@ -189,6 +230,8 @@ BP_FN LightSample light_sample(const LightSet* set, BP_GLOBAL const Material* ma
     float pdf_area = set->selection == BP_LIGHT_SELECTION_TREE ? pick.probability / l->area : m->light_pdf_area;
     s.pdf_uv = light_pdf_uv_area(pdf_area, s.distance, cos_light);
     if (s.pdf_uv > 0.0f) s.radiance_over_pdf = bp_load3(m->emission) * (BP_TWO_PI / s.pdf_uv);  // L / p_solid
+  } else if (l->type == BP_LIGHT_DIRECTIONAL) {
+    s.radiance_over_pdf = bp_load3(l->intensity) * (1.0f / pick.probability);  // E / P(select): L / p_solid of a delta
   } else {
     // E = I / d^2 from the light's direction: L / p_solid is I / (d^2 P(select)).
     float falloff = 1.0f;

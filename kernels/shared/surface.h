@@ -8,7 +8,8 @@
 
 typedef struct {
   float3 position;
-  float3 normal;       // flat patch normal, on the side of the incoming ray
+  float3 normal;       // flat patch normal, on the side of the incoming ray: offsets, sides, weight inputs
+  float3 shading_normal;  // for BSDF evaluation and sampling: NORMAL interpolated, else the flat one (DESIGN.md §6)
   bp_u32 material;
   bp_u32 patch;
   int reflects;        // 0: the back of a single-sided surface (black, emits nothing)
@@ -23,10 +24,35 @@ BP_FN SurfaceHit surface_at(BP_GLOBAL const TriangleShading* shading, bp_u32 tri
   SurfaceHit s;
   s.position = position;
   s.normal = front ? n : -n;
+  s.shading_normal = s.normal;
   s.material = t->material;
   bp_u32 k = t->patch_subdiv;
   s.patch = t->first_patch + (front ? 0u : k * k) + patch_local_index(b1, b2, k);
   s.reflects = front;
+  return s;
+}
+
+// The shading normal at barycentrics (b1, b2) of `triangle`: its corners' NORMAL (9 floats per
+// triangle, front side) interpolated and normalised, turned to the side of `geometric` (the flat
+// normal on the incoming ray's side). Where it would face away from the geometric normal (bent
+// corners at a crease), the flat normal.
+BP_FN float3 shading_normal_at(BP_GLOBAL const float* normals, bp_u32 triangle, float b1, float b2, float3 geometric,
+                               int front) {
+  BP_GLOBAL const float* c = normals + 9u * triangle;
+  float3 n = bp_load3(c) * (1.0f - b1 - b2) + bp_load3(c + 3) * b1 + bp_load3(c + 6) * b2;
+  float len = length(n);
+  if (!(len > 0.0f)) return geometric;
+  n = (front ? n : -n) / len;
+  return dot(n, geometric) > 0.0f ? n : geometric;
+}
+
+// surface_at with the shading normal filled in where the scene has NORMAL corners (has_normals).
+BP_FN SurfaceHit surface_at_shaded(BP_GLOBAL const TriangleShading* shading, BP_GLOBAL const float* normals,
+                                   bp_u32 has_normals, bp_u32 triangle, float b1, float b2, float3 position,
+                                   float3 ray_dir) {
+  SurfaceHit s = surface_at(shading, triangle, b1, b2, position, ray_dir);
+  if (BP_FEATURE_SHADING_NORMALS && has_normals)
+    s.shading_normal = shading_normal_at(normals, triangle, b1, b2, s.normal, s.reflects);
   return s;
 }
 

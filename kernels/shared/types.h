@@ -54,6 +54,8 @@ typedef struct {
   bp_u32 beta_heuristic;     // BP_BETA_*: the per-vertex beta of product weights (kernels/shared/weights.h)
   float rb_light_rate;       // the ray bundles' light-sample rate (BundleIteration), for the weights
   bp_u32 eye_direct_shared;  // 1: the eye vertex's direct light is split with RB (eye_segment_weights)
+  bp_u32 shading_normals;    // 1: the scene has NORMAL corners to interpolate (surface.h)
+  float environment[3];      // uniform radiance where a ray leaves the scene (--environment), W sr^-1 m^-2
   bp_u32 pad;
 } PathTraceParams;
 

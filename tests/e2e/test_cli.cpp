@@ -20,7 +20,7 @@ TEST(Cli, HelpDocumentsEveryRenderOption) {
   CliResult r = run_cli("render --help");
   EXPECT_EQ(r.exit_code, 0);
   for (const char* opt : {"--out", "--width", "--height", "--spp", "--time", "--seed", "--device", "--mode",
-                          "--patch-size", "--stats", "--no-light-sampling", "--kernels"})
+                          "--patch-size", "--stats", "--no-light-sampling", "--kernels", "--environment"})
     EXPECT_NE(r.output.find(opt), std::string::npos) << opt;
   EXPECT_EQ(run_cli("--help").exit_code, 0);
   EXPECT_EQ(run_cli("--version").exit_code, 0);
@@ -38,6 +38,9 @@ TEST(Cli, UsageErrorsExitTwoAndNameTheOption) {
       {"render " + kScenes + "cornell-box.gltf --patch-size 0", "--patch-size"},
       {"render " + kScenes + "cornell-box.gltf --spp", "--spp"},
       {"render " + kScenes + "cornell-box.gltf --kernels fast", "--kernels"},
+      {"render " + kScenes + "cornell-box.gltf --environment 1,2", "--environment"},
+      {"render " + kScenes + "cornell-box.gltf --environment 1,-2,3", "--environment"},
+      {"render " + kScenes + "cornell-box.gltf --environment 1,2,3,4", "--environment"},
       {"render", "no scene"},
       {"frobnicate", "unknown command"},
       {"", "usage"},

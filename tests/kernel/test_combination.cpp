@@ -103,6 +103,27 @@ TEST(Combination, LightSamplingKeepsTheProductWeightsUnbiasedUnderAPointLight) {
   expect_light_sampled_combination_unbiased(scene, 0.25f, true);
 }
 
+// A sun through an open ceiling (DESIGN.md §6, directional lights): only the light samples reach it,
+// PT's and RB's per-patch shadow rays, which carry the indirect light it gives the room. The eye
+// vertex's direct light shared with RB is tested on a Lambert floor: on the glossy one RB's eye
+// gather reflects a patch's light where its own sample brought none (shadowed, or not taken at rate
+// < 1) along the patch normal (a patch-level stand-in, rb_outgoing), which misses a sun's sharp
+// highlight by 3-10 % in the block where the sunlit floor meets the shadow.
+TEST(Combination, LightSamplingKeepsTheProductWeightsUnbiasedUnderASunThroughAnOpening) {
+  Scene scene = make_glossy_light_box();
+  std::erase_if(scene.triangles, [](const SceneTriangle& t) { return t.p[0].y > 0.49f && t.p[1].y > 0.49f && t.p[2].y > 0.49f; });
+  ScenePunctualLight sun;
+  sun.kind = ScenePunctualLight::Kind::directional;
+  sun.direction = glm::normalize(glm::vec3(0.3f, -1.0f, 0.2f));
+  sun.intensity = glm::vec3(2.0f, 1.8f, 1.5f);
+  scene.lights.push_back(sun);
+  expect_light_sampled_combination_unbiased(scene, 0.25f, false);
+  expect_light_sampled_combination_unbiased(scene, 1.0f, false, BP_LIGHT_SELECTION_POWER);
+  scene.materials[1].kd = glm::vec3(0.6f);  // the floor made Lambert
+  scene.materials[1].ks = glm::vec3(0.0f);
+  expect_light_sampled_combination_unbiased(scene, 0.25f, true);
+}
+
 // The same scene with the power to see a 2 % bias (issue #12): the image mean and its quadrants of
 // many cheap independent combined runs against as many cheap path-traced runs, Welch t-tests at a
 // Šidák-corrected family-wise level of 0.01, after asserting that the difference's standard error is

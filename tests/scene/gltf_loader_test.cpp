@@ -43,13 +43,13 @@ TEST(GltfLoader, SparseAccessorWithoutBufferView) {
 
 TEST(GltfLoader, MaterialMapping) {
   const Scene s = load_gltf(test_file("good/materials.gltf"));
-  ASSERT_EQ(s.materials.size(), 6u);
-  ASSERT_EQ(s.triangles.size(), 6u);
+  ASSERT_EQ(s.materials.size(), 8u);
+  ASSERT_EQ(s.triangles.size(), 8u);
   // Index 0 is the default material; file material i is at i + 1.
   expect_vec3_near(s.materials[0].kd, glm::vec3(0.8f));
   expect_vec3_near(s.materials[0].ks, glm::vec3(0.0f));
-  for (std::uint32_t i = 0; i < 5; ++i) EXPECT_EQ(s.triangles[i].material, i + 1);
-  EXPECT_EQ(s.triangles[5].material, 0u);
+  for (std::uint32_t i = 0; i < 7; ++i) EXPECT_EQ(s.triangles[i].material, i + 1);
+  EXPECT_EQ(s.triangles[7].material, 0u);
 
   const SceneMaterial& phong = s.materials[1];  // extras.phong wins over the PBR fields
   expect_vec3_near(phong.kd, {0.2f, 0.3f, 0.4f});
@@ -77,6 +77,16 @@ TEST(GltfLoader, MaterialMapping) {
   EXPECT_FLOAT_EQ(lamp.shininess, 1e6f);  // roughness 0
   EXPECT_FALSE(phong.double_sided);
 
+  // KHR_materials_specular.specularColorFactor [0, 0, 0] (Blender's Specular 0): pure Lambert, no warning.
+  const SceneMaterial& lambert = s.materials[6];
+  expect_vec3_near(lambert.kd, glm::vec3(1.0f));
+  expect_vec3_near(lambert.ks, glm::vec3(0.0f));
+  EXPECT_FALSE(has_warning(s, "\"blender specular 0\""));
+  // ks = metallic base + (1 - metallic) 0.04 specularFactor specularColorFactor
+  const SceneMaterial& coloured = s.materials[7];  // base 0.5, metallic 0.5, specular 0.5, colour (1, 0.5, 0)
+  expect_vec3_near(coloured.kd, glm::vec3(0.25f));
+  expect_vec3_near(coloured.ks, glm::vec3(0.25f) + 0.5f * 0.04f * 0.5f * glm::vec3(1.0f, 0.5f, 0.0f));
+
   EXPECT_EQ(s.emissive_triangles(), 1u);
   EXPECT_FALSE(has_warning(s, "no emitter"));
 }
@@ -95,6 +105,21 @@ TEST(GltfLoader, HierarchyTransformsAndMirroredWinding) {
   expect_vec3_near(s.camera.up, {0, 1, 0});
   EXPECT_FLOAT_EQ(s.camera.yfov, 0.5f);
   EXPECT_EQ(s.camera.aspect, 0.0f);  // not given
+}
+
+// NORMAL: read per corner, carried through the node transform by its inverse transpose, a zero one
+// replaced by the flat normal with a warning; a file without NORMAL has no shading normals.
+TEST(GltfLoader, NormalsAreReadAndTransformed) {
+  const Scene s = load_gltf(test_file("good/normals.gltf"));
+  ASSERT_EQ(s.triangles.size(), 1u);
+  const SceneTriangle& t = s.triangles[0];
+  ASSERT_TRUE(t.has_normals);
+  EXPECT_TRUE(s.has_shading_normals());
+  expect_vec3_near(t.normal[0], {0, 0, 1});
+  expect_vec3_near(t.normal[1], glm::normalize(glm::vec3(0.5f, 0.0f, 1.0f)));  // scale (2, 1, 1): x / 2
+  expect_vec3_near(t.normal[2], {0, 0, 1});  // zero in the file: the flat normal
+  EXPECT_TRUE(has_warning(s, "1 triangle corner(s) have a zero NORMAL"));
+  EXPECT_FALSE(load_gltf(test_file("good/strided.gltf")).has_shading_normals());
 }
 
 TEST(GltfLoader, NoScenesDrawsEveryRootNode) {
@@ -117,10 +142,10 @@ TEST(GltfLoader, DegenerateTrianglesDroppedWithOneWarning) {
   EXPECT_TRUE(has_warning(s, "dropped 1 degenerate"));
 }
 
-// KHR_lights_punctual: candela become W/sr at 683 lm/W; the node places and turns the light.
+// KHR_lights_punctual: candela become W/sr and lux W/m^2 at 683 lm/W; the node places and turns the light.
 TEST(GltfLoader, PunctualLights) {
   const Scene s = load_gltf(test_file("good/lights.gltf"));
-  ASSERT_EQ(s.lights.size(), 2u);
+  ASSERT_EQ(s.lights.size(), 3u);
   const ScenePunctualLight& spot = s.lights[0];
   EXPECT_EQ(spot.kind, ScenePunctualLight::Kind::spot);
   expect_vec3_near(spot.position, {0, 2, 0});
@@ -130,7 +155,11 @@ TEST(GltfLoader, PunctualLights) {
   EXPECT_FLOAT_EQ(spot.outer_cone, 0.5f);
   EXPECT_EQ(s.lights[1].kind, ScenePunctualLight::Kind::point);
   expect_vec3_near(s.lights[1].intensity, glm::vec3(2.0f));
-  EXPECT_TRUE(has_warning(s, "is directional"));
+  const ScenePunctualLight& sun = s.lights[2];
+  EXPECT_EQ(sun.kind, ScenePunctualLight::Kind::directional);
+  expect_vec3_near(sun.intensity, glm::vec3(3.0f));  // 2049 lux / 683 lm/W
+  expect_vec3_near(sun.direction, {0, 0, -1});       // the node's -z
+  EXPECT_FALSE(has_warning(s, "directional"));  // taken, not skipped
   EXPECT_FALSE(has_warning(s, "no emitter"));  // punctual lights light the scene
 }
 
@@ -204,6 +233,11 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"light-cone.gltf", "KHR_lights_punctual light 0 has cone angles"},
         BadCase{"light-intensity.gltf", "KHR_lights_punctual light 0 has intensity"},
         BadCase{"light-type.gltf", "KHR_lights_punctual light 0 has unknown type"},
+        BadCase{"normal-type.gltf", "accessor 2 (NORMAL of mesh 0 primitive 0) has type VEC2"},
+        BadCase{"normal-count.gltf", "accessor 2 (NORMAL of mesh 0 primitive 0) has 2 elements, but POSITION has 3"},
+        BadCase{"normal-component.gltf", "accessor 2 (NORMAL of mesh 0 primitive 0) has unsupported component type"},
+        BadCase{"normal-nan.gltf", "accessor 2 (NORMAL of mesh 0 primitive 0) holds a non-finite normal"},
+        BadCase{"specular-colour.gltf", "material 0 \"grey\" KHR_materials_specular.specularColorFactor"},
         BadCase{"uri-parent.gltf", "buffer 0 uri"},
         BadCase{"uri-absolute.gltf", "buffer 0 uri"},
         BadCase{"uri-encoded-parent.gltf", "buffer 0 uri"},

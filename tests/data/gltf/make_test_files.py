@@ -102,14 +102,34 @@ def with_lights(lights, node_light):
     return mutate
 
 
+def with_normals(normals, count=None, accessor_type="VEC3", component=5126):
+    """One triangle with a NORMAL accessor (2) holding `normals`; count, type and component overridable."""
+    doc, blob = base()
+    offset = len(blob)
+    for n in normals:
+        blob += struct.pack("<3f", *n)
+    doc["bufferViews"].append({"buffer": 0, "byteOffset": offset, "byteLength": len(blob) - offset})
+    doc["accessors"].append({"bufferView": 2, "componentType": component,
+                             "count": len(normals) if count is None else count, "type": accessor_type})
+    doc["buffers"][0]["byteLength"] = len(blob)
+    doc["meshes"][0]["primitives"][0]["attributes"]["NORMAL"] = 2
+    return doc, blob
+
+
 def good_files():
+    # NORMAL: corner 1 tilted towards +x, corner 2 zero (the flat normal is used, with a warning),
+    # under a node stretched 2x in x (normals transform by the inverse transpose).
+    doc, blob = with_normals([(0.0, 0.0, 1.0), (0.7071068, 0.0, 0.7071068), (0.0, 0.0, 0.0)])
+    doc["nodes"][0]["scale"] = [2.0, 1.0, 1.0]
+    write_json("good/normals.gltf", embed(doc, blob))
+
     # KHR_lights_punctual: a spot light 2 m up, pointing down (the node's -z turned to -y), a point
-    # light, and a directional light that is ignored with a warning.
+    # light, and a directional light of 3 W/m^2 (2049 lux), shining along the node's -z.
     doc, blob = base()
     with_lights([{"type": "spot", "color": [1.0, 0.5, 0.25], "intensity": 683.0,
                   "spot": {"innerConeAngle": 0.25, "outerConeAngle": 0.5}},
                  {"type": "point", "intensity": 1366.0},
-                 {"type": "directional"}], 0)(doc)
+                 {"type": "directional", "intensity": 2049.0}], 0)(doc)
     doc["nodes"][-1].update(translation=[0.0, 2.0, 0.0], rotation=[-0.7071068, 0.0, 0.0, 0.7071068])
     for light in (1, 2):
         doc["nodes"].append({"translation": [1.0, 1.0, 1.0], "extensions": {"KHR_lights_punctual": {"light": light}}})
@@ -139,10 +159,16 @@ def good_files():
         {"name": "lamp", "emissiveFactor": [1.0, 0.5, 0.25], "doubleSided": True,
          "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1], "metallicFactor": 0, "roughnessFactor": 0},
          "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 4.0}}},
+        # Blender's exporter for Specular 0: white base colour, no specular lobe, no warning.
+        {"name": "blender specular 0", "pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 1], "metallicFactor": 0},
+         "extensions": {"KHR_materials_specular": {"specularColorFactor": [0, 0, 0]}}},
+        {"name": "coloured specular", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1],
+                                                               "metallicFactor": 0.5},
+         "extensions": {"KHR_materials_specular": {"specularFactor": 0.5, "specularColorFactor": [1, 0.5, 0]}}},
     ]
     doc["extensionsUsed"] = ["KHR_materials_specular", "KHR_materials_emissive_strength"]
     prim = doc["meshes"][0]["primitives"][0]
-    doc["meshes"][0]["primitives"] = [dict(prim, material=i) for i in range(5)] + [
+    doc["meshes"][0]["primitives"] = [dict(prim, material=i) for i in range(7)] + [
         {"attributes": {"POSITION": 0}, "indices": 1}]
     write_json("good/materials.gltf", embed(doc, blob))
 
@@ -279,6 +305,17 @@ def bad_files():
             ("light-intensity", {"type": "point", "intensity": -2.0}, 0),
             ("light-type", {"type": "area"}, 0)]:
         bad(name, with_lights([light], node_light))
+
+    for name, kwargs in [("normal-type", {"accessor_type": "VEC2"}), ("normal-count", {"count": 2}),
+                         ("normal-component", {"component": 5123})]:
+        doc, blob = with_normals([(0.0, 0.0, 1.0)] * 3, **kwargs)
+        write_json(f"bad/{name}.gltf", embed(doc, blob))
+    doc, blob = with_normals([(0.0, 0.0, 1.0), (0.0, float("nan"), 1.0), (0.0, 0.0, 1.0)])
+    write_json("bad/normal-nan.gltf", embed(doc, blob))
+
+    def specular_colour(doc):
+        doc["materials"][0]["extensions"] = {"KHR_materials_specular": {"specularColorFactor": [1, 1]}}
+    bad("specular-colour", specular_colour)
 
 
 if __name__ == "__main__":
