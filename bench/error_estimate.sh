@@ -1,0 +1,142 @@
+#!/usr/bin/env bash
+# Issue #16: is the error estimate right? Renders each scene with --mode pt, rb and combined at a
+# short and a long budget (one seed) and prints the relMSE the render estimated of itself
+# ("estimated_rel_mse", DESIGN.md §9) beside the relMSE measured against a path-traced reference
+# (cached, bench/lib.sh), the reference's own noise (its estimated relMSE, which every measured value
+# contains), and what is left, measured − reference noise − estimated: RB's discretisation bias,
+# which no variance sees. Also the blocking check of RB's batch length: the estimate from batches of
+# 64, 128, 256, 512 iterations of the same long rb render (--error-levels), and the lag-1
+# autocorrelation of consecutive 64- and 128-iteration batch means it implies,
+# rho1(b) = est(2b)/est(b) − 1. Then --target-error on each scene (pt and combined), stopped with
+# the measured relMSE it reached. Writes OUT/error-estimate.md, OUT/error-estimate.csv and a
+# scatter plot OUT/error-estimate.png (estimated against measured, log-log; gnuplot).
+# Usage: bench/error_estimate.sh [SIZE] [SHORT_SECONDS] [LONG_SECONDS] [TARGET] [OUT] [SCENES...]
+#        defaults: 128 2 12 0.001 bench/results  cornell-box cornell-glossy rooms-lambert-100000
+#        (scene reference spp from BENCH_STUDY_SCENES: 16384 for the boxes, 8192 for the house)
+set -euo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
+# shellcheck source=bench/lib.sh
+source "$here/lib.sh"
+if [ "${1:-}" = -h ] || [ "${1:-}" = --help ]; then sed -n '2,16p' "$0"; exit 2; fi
+cd "$bench_root"
+size=${1:-128}
+short=${2:-2}
+long=${3:-12}
+target=${4:-0.001}
+out=${5:-bench/results}
+shift $(($# < 5 ? $# : 5))
+scenes=("$@")
+[ ${#scenes[@]} -gt 0 ] || scenes=(cornell-box cornell-glossy rooms-lambert-100000)
+mkdir -p "$out"
+mapfile -t wh < <(bench_size_args "$size")
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+csv=$out/error-estimate.csv
+echo "scene,mode,budget,work,estimated,measured,reference_noise,bias_left,ratio" > "$csv"
+blocking=$tmp/blocking.md
+targets=$tmp/targets.md
+: > "$blocking"
+: > "$targets"
+
+ref_spp_of() {  # the study's reference spp of a scene name (bench/lib.sh), 16384 if not listed
+  local entry
+  for entry in "${BENCH_STUDY_SCENES[@]}"; do
+    if [ "${entry% *}" = "$1" ]; then echo "${entry#* }"; return; fi
+  done
+  echo 16384
+}
+
+for name in "${scenes[@]}"; do
+  scene=$(bench_scene "$name")
+  ref=$(bench_reference "$scene" "$(bench_reference_spp "$(ref_spp_of "$name")" "$size")" "$size")
+  for mode in pt rb combined; do
+    for budget in "$short" "$long"; do
+      levels=()
+      if [ "$mode" = rb ] && [ "$budget" = "$long" ]; then levels=(--error-levels 4); fi
+      bench_render "$scene" "${wh[@]}" --mode "$mode" --time "$budget" --seed 1 --reference "$ref" "${levels[@]}" \
+        --out "$tmp/img" --stats "$tmp/s.json" 2>/dev/null
+      python3 - "$name" "$mode" "$budget" "$tmp/s.json" "${ref%.exr}.json" "$csv" "$blocking" <<'PY'
+import json, math, sys
+name, mode, budget, stats_path, ref_stats, csv, blocking = sys.argv[1:]
+s = json.load(open(stats_path))
+try:
+    ref_noise = json.load(open(ref_stats)).get("estimated_rel_mse") or 0.0
+except OSError:
+    ref_noise = 0.0
+est = s["estimated_rel_mse"]
+meas = s["reference"]["layers"]["combined"]["rel_mse"]
+work = f"{s['spp']} spp" + (f" + {s['iterations']} it" if s.get("iterations") else "")
+left = meas - ref_noise - (est or 0.0)
+ratio = est / (meas - ref_noise) if est and meas > ref_noise else float("nan")
+with open(csv, "a") as f:
+    f.write(f"{name},{mode},{budget},{work},{est:.6g},{meas:.6g},{ref_noise:.3g},{left:.3g},{ratio:.3f}\n")
+if mode == "rb" and len(s["error_estimate"]["levels"]) > 1:
+    lv = s["error_estimate"]["levels"]
+    e = [l["estimated_rel_mse"] for l in lv]
+    rho = [e[j + 1] / e[j] - 1 for j in range(len(e) - 1) if e[j] and e[j + 1]]
+    with open(blocking, "a") as f:
+        f.write(f"| {name} | {s['iterations']} | " + " | ".join(f"{x:.3g} ({l['batches']})" for x, l in zip(e, lv)) +
+                " | " + " / ".join(f"{r:+.2f}" for r in rho[:2]) + " |\n")
+PY
+    done
+  done
+  for mode in pt combined; do
+    bench_render "$scene" "${wh[@]}" --mode "$mode" --target-error "$target" --time $((4 * long)) --seed 2 \
+      --reference "$ref" --out "$tmp/img" --stats "$tmp/s.json" 2>/dev/null
+    python3 - "$name" "$mode" "$tmp/s.json" "${ref%.exr}.json" >> "$targets" <<'PY'
+import json, sys
+name, mode, path, ref_stats = sys.argv[1:]
+s = json.load(open(path))
+ref_noise = json.load(open(ref_stats)).get("estimated_rel_mse") or 0.0
+work = f"{s['spp']} spp" + (f" + {s['iterations']} it" if s.get("iterations") else "")
+meas = s["reference"]["layers"]["combined"]["rel_mse"]
+print(f"| {name} | {mode} | {s['target_error']:g} | {'yes' if s['target_reached'] else 'no (time cap)'} | {work}, "
+      f"{s['render_seconds']:.1f} s | {s['estimated_rel_mse']:.3g} | {meas:.3g} | {meas - ref_noise:.3g} |")
+PY
+  done
+done
+
+{
+  echo "| scene | mode | budget (s) | work done | estimated relMSE | measured relMSE | reference's own noise | measured − noise − estimated | estimated / (measured − noise) |"
+  echo "|---|---|---|---|---|---|---|---|---|"
+  tail -n +2 "$csv" | while IFS=, read -r sc mo bu wo es me rn le ra; do
+    echo "| $sc | $mo | $bu | $wo | $es | $me | $rn | $le | $ra |"
+  done
+  echo
+  echo "Blocking check of RB's batch length (the long \`--mode rb\` render, \`--error-levels 4\`): estimated relMSE (batches)"
+  echo
+  echo "| scene | iterations | 64 it | 128 it | 256 it | 512 it | lag-1 autocorrelation of 64- / 128-it batch means |"
+  echo "|---|---|---|---|---|---|---|"
+  cat "$blocking"
+  echo
+  echo "\`--target-error $target\` (cap --time $((4 * long)) s, seed 2):"
+  echo
+  echo "| scene | mode | target | reached | work, time | estimated relMSE | measured relMSE | measured − reference noise |"
+  echo "|---|---|---|---|---|---|---|---|"
+  cat "$targets"
+  echo
+  echo "(${size}, one seed; references: path-traced, bench/lib.sh; $("$BUNDLEPATH" devices 2>/dev/null | head -1 | sed 's/^ *//'))"
+  echo "(command: bash bench/error_estimate.sh $size $short $long $target $out ${scenes[*]})"
+} > "$out/error-estimate.md"
+cat "$out/error-estimate.md"
+
+if command -v gnuplot >/dev/null; then
+  dat=$out/error-estimate.dat
+  tail -n +2 "$csv" | awk -F, '{ printf "%s-%s-%ss %s %s %s\n", $1, $2, $3, $5, $6 - $7, $2 }' > "$dat"
+  cat > "$out/error-estimate.gp" <<GP
+set terminal pngcairo size 720,640 noenhanced
+set output '$out/error-estimate.png'
+set logscale xy
+set xlabel 'measured relMSE − reference noise (vs path-traced reference)'
+set ylabel 'estimated relMSE (no reference)'
+set key top left
+set grid
+f(x) = x
+set title 'error estimate against measured error, ${size}, ${short} s and ${long} s'
+plot f(x) lc rgb 'black' title 'estimated = measured', 1.5*x lc rgb 'gray' dt 2 title '×1.5', x/1.5 lc rgb 'gray' dt 2 notitle, \
+  '$dat' using (strcol(4) eq "pt" ? \$3 : 1/0):2 with points pt 7 ps 1.3 title 'pt', \
+  '' using (strcol(4) eq "rb" ? \$3 : 1/0):2 with points pt 5 ps 1.3 title 'rb', \
+  '' using (strcol(4) eq "combined" ? \$3 : 1/0):2 with points pt 9 ps 1.6 title 'combined'
+GP
+  gnuplot "$out/error-estimate.gp" && echo "plot: $out/error-estimate.png"
+fi
