@@ -56,23 +56,30 @@ for name in "${scenes[@]}"; do
       bench_render "$scene" "${wh[@]}" --mode "$mode" --time "$budget" --seed 1 --reference "$ref" "${levels[@]}" \
         --out "$tmp/img" --stats "$tmp/s.json" 2>/dev/null
       python3 - "$name" "$mode" "$budget" "$tmp/s.json" "${ref%.exr}.json" "$csv" "$blocking" <<'PY'
-import json, math, sys
+import json, math, os, sys
 name, mode, budget, stats_path, ref_stats, csv, blocking = sys.argv[1:]
 s = json.load(open(stats_path))
-try:
-    ref_noise = json.load(open(ref_stats)).get("estimated_rel_mse") or 0.0
-except OSError:
-    ref_noise = 0.0
+# The reference's own noise: its own estimate; a reference rendered before issue #16 has none, and
+# then it is a PT render's estimate scaled by spp / reference spp (relMSE ∝ 1/N), kept per scene.
+ref = json.load(open(ref_stats))
+noise_file = os.path.join(os.path.dirname(csv), f".ref-noise-{name}")
+ref_noise = ref.get("estimated_rel_mse")
+if ref_noise is None and mode == "pt" and s["estimated_rel_mse"]:
+    ref_noise = s["estimated_rel_mse"] * s["spp"] / ref["spp"]
+    open(noise_file, "w").write(repr(ref_noise))
+if ref_noise is None:
+    ref_noise = float(open(noise_file).read()) if os.path.exists(noise_file) else 0.0
 est = s["estimated_rel_mse"]
 meas = s["reference"]["layers"]["combined"]["rel_mse"]
 work = f"{s['spp']} spp" + (f" + {s['iterations']} it" if s.get("iterations") else "")
 left = meas - ref_noise - (est or 0.0)
 ratio = est / (meas - ref_noise) if est and meas > ref_noise else float("nan")
 with open(csv, "a") as f:
-    f.write(f"{name},{mode},{budget},{work},{est:.6g},{meas:.6g},{ref_noise:.3g},{left:.3g},{ratio:.3f}\n")
+    est_text = f"{est:.6g}" if est is not None else "nan"  # fewer than two batches: no estimate
+    f.write(f"{name},{mode},{budget},{work},{est_text},{meas:.6g},{ref_noise:.3g},{left:.3g},{ratio:.3f}\n")
 if mode == "rb" and len(s["error_estimate"]["levels"]) > 1:
     lv = s["error_estimate"]["levels"]
-    e = [l["estimated_rel_mse"] for l in lv]
+    e = [l["estimated_rel_mse"] or float("nan") for l in lv]
     rho = [e[j + 1] / e[j] - 1 for j in range(len(e) - 1) if e[j] and e[j + 1]]
     with open(blocking, "a") as f:
         f.write(f"| {name} | {s['iterations']} | " + " | ".join(f"{x:.3g} ({l['batches']})" for x, l in zip(e, lv)) +
@@ -83,15 +90,18 @@ PY
   for mode in pt combined; do
     bench_render "$scene" "${wh[@]}" --mode "$mode" --target-error "$target" --time $((4 * long)) --seed 2 \
       --reference "$ref" --out "$tmp/img" --stats "$tmp/s.json" 2>/dev/null
-    python3 - "$name" "$mode" "$tmp/s.json" "${ref%.exr}.json" >> "$targets" <<'PY'
-import json, sys
-name, mode, path, ref_stats = sys.argv[1:]
+    python3 - "$name" "$mode" "$tmp/s.json" "${ref%.exr}.json" "$csv" >> "$targets" <<'PY'
+import json, os, sys
+name, mode, path, ref_stats, csv = sys.argv[1:]
 s = json.load(open(path))
-ref_noise = json.load(open(ref_stats)).get("estimated_rel_mse") or 0.0
+ref_noise = json.load(open(ref_stats)).get("estimated_rel_mse")
+noise_file = os.path.join(os.path.dirname(csv), f".ref-noise-{name}")
+if ref_noise is None:
+    ref_noise = float(open(noise_file).read()) if os.path.exists(noise_file) else 0.0
 work = f"{s['spp']} spp" + (f" + {s['iterations']} it" if s.get("iterations") else "")
 meas = s["reference"]["layers"]["combined"]["rel_mse"]
 print(f"| {name} | {mode} | {s['target_error']:g} | {'yes' if s['target_reached'] else 'no (time cap)'} | {work}, "
-      f"{s['render_seconds']:.1f} s | {s['estimated_rel_mse']:.3g} | {meas:.3g} | {meas - ref_noise:.3g} |")
+      f"{s['render_seconds']:.1f} s | {s['estimated_rel_mse'] or float('nan'):.3g} | {meas:.3g} | {meas - ref_noise:.3g} |")
 PY
   done
 done

@@ -530,7 +530,7 @@ int run_render(const RenderOptions& o) {
                outcome.interrupted ? "interrupted after " : "", done.c_str(), width, height, outcome.seconds,
                mrays_per_second, exr_path.c_str(), png_path.c_str());
   if (std::isfinite(estimated_rel_mse))
-    std::fprintf(stderr, "bundlepath: estimated relMSE %.3g (noise only; %llu batches of %llu+ rounds)%s\n",
+    std::fprintf(stderr, "bundlepath: estimated relMSE %.3g (noise only: from %llu batches of at least %llu rounds)%s\n",
                  estimated_rel_mse, static_cast<unsigned long long>(error_estimate.batches()),
                  static_cast<unsigned long long>(error_estimate.batch_rounds()),
                  o.target_error > 0.0 ? (outcome.target_reached ? ": --target-error reached" : ": --target-error not reached")
