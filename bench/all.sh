@@ -107,7 +107,7 @@ if [ $quick -eq 0 ]; then  # fixed-budget comparisons: minutes each, so not in t
   stage rb_discretisation bash -c "bash '$here/rb_discretisation.sh' > '$out/rb-discretisation.md'"
   stage rb_warmup bash -c "bash '$here/rb_warmup.sh' > '$out/rb-warmup.md'"
   stage rb_bias bash -c "bash '$here/rb_bias.sh' > '$out/rb-bias.md'"
-  stage error_estimate bash -c "bash '$here/error_estimate.sh' 128 2 12 0.001 '$out' > /dev/null"
+  stage error_estimate bash -c "bash '$here/error_estimate.sh' 128 4 16 0.001 '$out' > /dev/null"
 fi
 load_after=$(cut -d' ' -f1-3 /proc/loadavg)
 total=$(python3 -c "import time; print(f'{time.time() - $t_all:.0f}')")

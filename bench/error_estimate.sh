@@ -12,7 +12,7 @@
 # the measured relMSE it reached. Writes OUT/error-estimate.md, OUT/error-estimate.csv and a
 # scatter plot OUT/error-estimate.png (estimated against measured, log-log; gnuplot).
 # Usage: bench/error_estimate.sh [SIZE] [SHORT_SECONDS] [LONG_SECONDS] [TARGET] [OUT] [SCENES...]
-#        defaults: 128 2 12 0.001 bench/results  cornell-box cornell-glossy rooms-lambert-100000:20:80
+#        defaults: 128 4 16 0.001 bench/results  cornell-box cornell-glossy rooms-lambert-100000:20:80
 #        (a scene NAME:SHORT:LONG has budgets of its own: an RB iteration of the house costs about
 #        30 ms at 128x128, so 12 s would give it 5 batches of 64 iterations)
 #        (scene reference spp from BENCH_STUDY_SCENES: 16384 for the boxes, 8192 for the house)
@@ -23,8 +23,8 @@ source "$here/lib.sh"
 if [ "${1:-}" = -h ] || [ "${1:-}" = --help ]; then sed -n '2,18p' "$0"; exit 2; fi
 cd "$bench_root"
 size=${1:-128}
-short_default=${2:-2}
-long_default=${3:-12}
+short_default=${2:-4}
+long_default=${3:-16}
 target=${4:-0.001}
 out=${5:-bench/results}
 shift $(($# < 5 ? $# : 5))
@@ -35,7 +35,7 @@ mapfile -t wh < <(bench_size_args "$size")
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 csv=$out/error-estimate.csv
-echo "scene,mode,budget,work,estimated,measured,reference_noise,bias_left,ratio,two_seed_variance,ratio_to_variance" > "$csv"
+echo "scene,mode,budget,work,batches,estimated,measured,reference_noise,bias_left,ratio,two_seed_variance,ratio_to_variance" > "$csv"
 blocking=$tmp/blocking.md
 targets=$tmp/targets.md
 : > "$blocking"
@@ -105,7 +105,7 @@ ratio = est / (meas - ref_noise) if est and meas > ref_noise else float("nan")
 with open(csv, "a") as f:
     est_text = f"{est:.6g}" if est is not None else "nan"  # fewer than two batches: no estimate
     to_var = est / two_seed if est and two_seed > 0 else float("nan")
-    f.write(f"{name},{mode},{budget},{work},{est_text},{meas:.6g},{ref_noise:.3g},{left:.3g},{ratio:.3f},"
+    f.write(f"{name},{mode},{budget},{work},{s['error_estimate']['batches']},{est_text},{meas:.6g},{ref_noise:.3g},{left:.3g},{ratio:.3f},"
             f"{two_seed:.6g},{to_var:.3f}\n")
 if mode == "rb" and len(s["error_estimate"]["levels"]) > 1:
     lv = s["error_estimate"]["levels"]
@@ -137,10 +137,10 @@ PY
 done
 
 {
-  echo "| scene | mode | budget (s) | work done | estimated relMSE | measured relMSE (vs reference) | reference's own noise | estimated / (measured − noise) | measured − noise − estimated | variance from two seeds | estimated / two-seed variance |"
-  echo "|---|---|---|---|---|---|---|---|---|---|---|"
-  tail -n +2 "$csv" | while IFS=, read -r sc mo bu wo es me rn le ra tv rv; do
-    echo "| $sc | $mo | $bu | $wo | $es | $me | $rn | $ra | $le | $tv | $rv |"
+  echo "| scene | mode | budget (s) | work done | batches K | estimated relMSE | measured relMSE (vs reference) | reference's own noise | estimated / (measured − noise) | measured − noise − estimated | variance from two seeds | estimated / two-seed variance |"
+  echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
+  tail -n +2 "$csv" | while IFS=, read -r sc mo bu wo k es me rn le ra tv rv; do
+    echo "| $sc | $mo | $bu | $wo | $k | $es | $me | $rn | $ra | $le | $tv | $rv |"
   done
   echo
   echo "Blocking check of RB's batch length (the long \`--mode rb\` render, \`--error-levels 4\`): estimated relMSE (batches)"
@@ -162,11 +162,13 @@ cat "$out/error-estimate.md"
 
 if command -v gnuplot >/dev/null; then
   dat=$out/error-estimate.dat
-  tail -n +2 "$csv" | awk -F, '{ printf "%s-%s-%ss %s %s %s %s\n", $1, $2, $3, $5, $6 - $7, $2, $10 }' > "$dat"
+  tail -n +2 "$csv" | awk -F, '{ printf "%s-%s-%ss %s %s %s %s\n", $1, $2, $3, $6, $7 - $8, $2, $11 }' > "$dat"
   cat > "$out/error-estimate.gp" <<GP
 set terminal pngcairo size 720,640 noenhanced
 set output '$out/error-estimate.png'
 set logscale xy
+set xrange [1e-4:1]
+set yrange [1e-4:1]
 set xlabel 'measured relMSE − reference noise (filled), or two-seed variance (open)'
 set ylabel 'estimated relMSE (no reference)'
 set key top left

@@ -87,8 +87,12 @@ TEST(TargetError, TimeCapsAnUnreachableTarget) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   nlohmann::json stats = read_json(dir + "/s.json");
   EXPECT_EQ(stats["target_reached"], false);
-  EXPECT_GT(stats["estimated_rel_mse"].get<double>(), 1e-12);
-  EXPECT_NE(r.output.find("--target-error not reached"), std::string::npos) << r.output;
+  EXPECT_GE(stats["render_seconds"].get<double>(), 3.0);  // only the cap ends it (a lower bound, not a timing test)
+  // On a loaded machine the first launches may fill the 3 s: the estimate needs two batches.
+  if (stats["estimated_rel_mse"].is_number()) {
+    EXPECT_GT(stats["estimated_rel_mse"].get<double>(), 1e-12);
+    EXPECT_NE(r.output.find("--target-error not reached"), std::string::npos) << r.output;
+  }
 }
 
 // A render stopped and resumed continues the same batches: the estimate and the stderr layer equal
