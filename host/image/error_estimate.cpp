@@ -45,43 +45,57 @@ void BatchMeansErrorEstimate::add(std::uint64_t rounds, const RoundSums& sums) {
   }
 }
 
-std::vector<double> BatchMeansErrorEstimate::variance_of_mean(int level_index) const {
-  const Level& level = state_.levels[std::size_t(level_index)];
-  if (level.batches < 2 || state_.rounds == 0) return {};
-  const double k = double(level.batches), n_closed = double(level.closed_rounds), n_image = double(state_.rounds);
-  std::vector<double> var(level.open_sums.size());
-  for (std::size_t i = 0; i < var.size(); ++i) {
+namespace {
+// The variance of the image's mean at value i (DESIGN.md §9), from a level's closed batches.
+struct LevelVariance {
+  const BatchMeansErrorEstimate::Level& level;
+  const std::vector<double>& start_sums;
+  double k, n_closed, n_image;
+  double at(std::size_t i) const {
     // Σ X_k over the closed batches: the sums at the open batch's start less those at the first round.
-    const double sum = level.open_sums[i] - (state_.start_sums.empty() ? 0.0 : state_.start_sums[i]);
+    const double sum = level.open_sums[i] - (start_sums.empty() ? 0.0 : start_sums[i]);
     // Σ n_k (m_k − m)² = Σ X_k²/n_k − (Σ X_k)²/Σ n_k; E = (K − 1) σ² for batches independent (§9).
     const double s2 = std::max(0.0, (level.sum_sq_over_n[i] - sum * sum / n_closed) / (k - 1.0));
-    var[i] = s2 / n_image;  // Var of the mean of the image's N rounds, σ² / N
+    return s2 / n_image;  // Var of the mean of the image's N rounds, σ² / N
   }
-  return var;
-}
+};
 
-namespace {
 template <class PixelValue>
-double rel_mse_of(const std::vector<double>& var, PixelValue image) {
-  if (var.empty()) return std::nan("");
+double rel_mse_of(const LevelVariance& var, std::size_t n, PixelValue image) {
   double sum = 0.0;
-  for (std::size_t i = 0; i < var.size(); ++i) {
+  for (std::size_t i = 0; i < n; ++i) {
     const double v = image(i);
-    sum += var[i] / (v * v + 0.01);  // DESIGN.md §7's relMSE, E[(I − R)²] = Var, R ≈ I (§9)
+    sum += var.at(i) / (v * v + 0.01);  // DESIGN.md §7's relMSE, E[(I − R)²] = Var, R ≈ I (§9)
   }
-  return sum / double(var.size());
+  return sum / double(n);
 }
 }  // namespace
 
-double BatchMeansErrorEstimate::estimated_rel_mse(const ImageRGB& image, int level) const {
-  const std::vector<double> var = variance_of_mean(level);
-  if (var.size() != image.rgb.size()) return std::nan("");
-  return rel_mse_of(var, [&](std::size_t i) { return double(image.rgb[i]); });
+std::vector<double> BatchMeansErrorEstimate::variance_of_mean(int level_index) const {
+  const Level& level = state_.levels[std::size_t(level_index)];
+  if (level.batches < 2 || state_.rounds == 0) return {};
+  const LevelVariance var{level, state_.start_sums, double(level.batches), double(level.closed_rounds),
+                          double(state_.rounds)};
+  std::vector<double> out(level.open_sums.size());
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = var.at(i);
+  return out;
 }
 
-double BatchMeansErrorEstimate::estimated_rel_mse(const RoundSums& sums, int level) const {
-  const double inv_rounds = state_.rounds ? 1.0 / double(state_.rounds) : 0.0;
-  return rel_mse_of(variance_of_mean(level), [&](std::size_t i) { return sums.at(i) * inv_rounds; });
+double BatchMeansErrorEstimate::estimated_rel_mse(const ImageRGB& image, int level_index) const {
+  const Level& level = state_.levels[std::size_t(level_index)];
+  if (level.batches < 2 || state_.rounds == 0 || image.rgb.size() != level.open_sums.size()) return std::nan("");
+  const LevelVariance var{level, state_.start_sums, double(level.batches), double(level.closed_rounds),
+                          double(state_.rounds)};
+  return rel_mse_of(var, image.rgb.size(), [&](std::size_t i) { return double(image.rgb[i]); });
+}
+
+double BatchMeansErrorEstimate::estimated_rel_mse(const RoundSums& sums, int level_index) const {
+  const Level& level = state_.levels[std::size_t(level_index)];
+  if (level.batches < 2 || state_.rounds == 0) return std::nan("");
+  const LevelVariance var{level, state_.start_sums, double(level.batches), double(level.closed_rounds),
+                          double(state_.rounds)};
+  const double inv_rounds = 1.0 / double(state_.rounds);
+  return rel_mse_of(var, level.open_sums.size(), [&](std::size_t i) { return sums.at(i) * inv_rounds; });
 }
 
 ImageRGB BatchMeansErrorEstimate::standard_error(int level) const {
