@@ -2,7 +2,7 @@
 # Regenerates every bench table and plot: set-up (gnuplot, time), build of the renderer and bench
 # tools, references, convergence study, knob studies, the ratio sweep, kernel benchmarks, scaling, and (not with
 # --quick) the equal-time, light-sampling and kernel-specialisation comparisons and the ray-bundle
-# discretisation, warm-up and bias studies. Writes the CSVs,
+# discretisation, warm-up and bias studies and the check of the error estimate. Writes the CSVs,
 # PNGs and Markdown snippets to OUT (bench/results) and OUT/summary.md, which strings the snippets
 # together with the machine, the load average and each stage's run time. See bench/README.md.
 #
@@ -23,7 +23,7 @@ here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/.." && pwd)
 
 quick=0; out=""; cap=""; repeats=""; setup=1; build=1; plots=1; resolutions=""
-stages="references convergence knobs ratio kernels scaling equal_time equal_time_rooms light_sampling kernel_features rb_discretisation rb_warmup rb_bias"
+stages="references convergence knobs ratio kernels scaling equal_time equal_time_rooms light_sampling kernel_features rb_discretisation rb_warmup rb_bias error_estimate"
 while [ $# -gt 0 ]; do
   case $1 in
     --quick) quick=1 ;;
@@ -107,6 +107,7 @@ if [ $quick -eq 0 ]; then  # fixed-budget comparisons: minutes each, so not in t
   stage rb_discretisation bash -c "bash '$here/rb_discretisation.sh' > '$out/rb-discretisation.md'"
   stage rb_warmup bash -c "bash '$here/rb_warmup.sh' > '$out/rb-warmup.md'"
   stage rb_bias bash -c "bash '$here/rb_bias.sh' > '$out/rb-bias.md'"
+  stage error_estimate bash -c "bash '$here/error_estimate.sh' 128 4 16 0.001 '$out' > /dev/null"
 fi
 load_after=$(cut -d' ' -f1-3 /proc/loadavg)
 total=$(python3 -c "import time; print(f'{time.time() - $t_all:.0f}')")
@@ -118,7 +119,7 @@ total=$(python3 -c "import time; print(f'{time.time() - $t_all:.0f}')")
   echo "Load average before / after: $load_before / $load_after. Stage times (s):" \
        "$(printf '%s, ' "${timings[@]}" | sed 's/, $//'); total ${total} s."
   echo
-  for section in convergence knobs ratio kernels scaling equal-time equal-time-rooms light-sampling kernel-features rb-discretisation rb-warmup rb-bias; do
+  for section in convergence knobs ratio kernels scaling equal-time equal-time-rooms light-sampling kernel-features rb-discretisation rb-warmup rb-bias error-estimate; do
     [ -f "$out/$section.md" ] || continue
     case $section in
       convergence) echo "### Error against time, per scene and mode" ;;
@@ -133,6 +134,7 @@ total=$(python3 -c "import time; print(f'{time.time() - $t_all:.0f}')")
       rb-discretisation) echo "### Ray-bundle discretisation" ;;
       rb-warmup) echo "### Ray-bundle warm-up" ;;
       rb-bias) echo "### Ray-bundle level on the house: bias or noise" ;;
+      error-estimate) echo "### Error estimates without a reference" ;;
     esac
     echo
     cat "$out/$section.md"

@@ -25,6 +25,9 @@ struct RenderOptions {
   std::uint32_t warmup = 16;     // ray-bundle iterations before the first eye estimate
   bool gouraud = true;           // --rb-shading gouraud|flat
   double seconds = 0.0;
+  double target_error = 0.0;     // --target-error: stop once the estimated relMSE is at most this; 0: none
+  std::uint64_t error_batch = 0;  // RB iterations per batch of the error estimate; 0: kErrorBatchRbIterations
+  int error_levels = 1;          // batch lengths error_batch · 2^j, j < error_levels, in the stats (blocking)
   std::uint32_t seed = 1;
   std::string device;            // empty: first GPU, else first CPU
   std::string mode = "pt";       // pt, rb, combined

@@ -8,6 +8,7 @@
 #include "device/kernel_features.h"
 #include "image/accumulator.h"
 #include "image/contact_sheet.h"
+#include "image/error_estimate.h"
 #include "image/image.h"
 #include "image/stats_io.h"
 #include "passes/checkpoint.h"
@@ -309,6 +310,27 @@ int run_render(const RenderOptions& o) {
     first_round = c.rounds;
     earlier_seconds = c.render_seconds;
   }
+  // The error estimate (DESIGN.md §9): batches of both estimators together, each long enough for
+  // RB's chain -- kErrorBatchRbIterations iterations (--error-batch), in rounds of the combination.
+  const std::uint64_t rb_batch_iterations = o.error_batch ? o.error_batch : kErrorBatchRbIterations;
+  const std::uint64_t error_batch_rounds =
+      !rb ? 1 : shape ? (rb_batch_iterations + shape->rb_iterations - 1) / shape->rb_iterations : rb_batch_iterations;
+  // The image times the rounds: pt.sum / N1 + rb.sum / N2 per round (eq. 3; N1 = N2 = 1 alone).
+  RoundSums round_sums;
+  if (pt && (!shape || shape->pt_samples > 0)) {
+    round_sums.first = &pt_accum.sum;
+    round_sums.first_scale = shape ? 1.0 / shape->pt_samples : 1.0;
+  }
+  if (rb) {
+    round_sums.second = &rb_accum.sum;
+    round_sums.second_scale = shape ? 1.0 / shape->rb_iterations : 1.0;
+  }
+  BatchMeansErrorEstimate error_estimate =
+      resumed && resumed->error_estimate
+          ? BatchMeansErrorEstimate::from_state(*resumed->error_estimate, width, height)
+          : BatchMeansErrorEstimate(width, height, error_batch_rounds, o.error_levels, first_round,
+                                    first_round ? &round_sums : nullptr);
+  double estimated_rel_mse = error_estimate.estimated_rel_mse(round_sums);
   std::uint64_t saved_rounds = first_round;
   auto save_checkpoint = [&](std::uint64_t rounds, double seconds) {
     Checkpoint c;
@@ -320,6 +342,7 @@ int run_render(const RenderOptions& o) {
       c.rb = rb_accum;
       c.rb_state = rb->save_state();
     }
+    c.error_estimate = error_estimate.state();
     write_checkpoint(o.checkpoint_path, c);
     saved_rounds = rounds;
   };
@@ -344,12 +367,30 @@ int run_render(const RenderOptions& o) {
   const bool counts_iterations = o.mode == "rb" || (shape && shape->pt_samples == 0);
   const double samples_per_round =
       counts_iterations ? (shape ? shape->rb_iterations : 1.0) : (shape ? shape->pt_samples * pixels : pixels);
+  RenderBudget budget{rounds, o.seconds, {}};
+  // --target-error: done once enough batches say the relMSE is at most X (checked after each batch).
+  if (o.target_error > 0.0)
+    budget.target_reached = [&] {
+      return error_estimate.batches() >= kMinBatchesForTarget && estimated_rel_mse <= o.target_error;
+    };
   RenderOutcome outcome = run_progressive(
-      *pass, RenderBudget{rounds, o.seconds}, stop_requested(),
+      *pass, budget, stop_requested(),
       [&](const RenderProgress& p) {
         double secs = std::max(p.elapsed_seconds, 1e-9);
-        bar.update(p.fraction, double(p.rounds_done - first_round) * samples_per_round / secs,
-                   double(p.rays) / secs * 1e-6, p.elapsed_seconds, counts_iterations ? "iterations/s" : "samples/s");
+        error_estimate.add(p.rounds_done, round_sums);
+        estimated_rel_mse = error_estimate.estimated_rel_mse(round_sums);
+        double fraction = p.fraction, eta = NAN;
+        if (o.target_error > 0.0 && std::isfinite(estimated_rel_mse) && p.rounds_done > first_round) {
+          // relMSE ∝ 1/N: X is reached after N·relMSE/X rounds, at this run's seconds per round.
+          const double rounds_needed = double(p.rounds_done) * estimated_rel_mse / o.target_error;
+          const double seconds_per_round = p.elapsed_seconds / double(p.rounds_done - first_round);
+          eta = std::max(0.0, rounds_needed - double(p.rounds_done)) * seconds_per_round;
+          if (o.seconds > 0.0) eta = std::min(eta, std::max(0.0, o.seconds - p.elapsed_seconds));
+          fraction = std::max(fraction, std::min(1.0, o.target_error / estimated_rel_mse));
+        }
+        bar.update(fraction, double(p.rounds_done - first_round) * samples_per_round / secs,
+                   double(p.rays) / secs * 1e-6, p.elapsed_seconds, counts_iterations ? "iterations/s" : "samples/s",
+                   estimated_rel_mse, eta);
         if (!o.checkpoint_path.empty() && p.elapsed_seconds - last_save >= o.checkpoint_every) {
           save_checkpoint(p.rounds_done, p.elapsed_seconds);
           last_save = p.elapsed_seconds;
@@ -379,6 +420,9 @@ int run_render(const RenderOptions& o) {
   const std::string exr_path = o.out_prefix + ".exr", png_path = o.out_prefix + ".png";
   std::vector<ImageLayer> exr_layers;
   for (const auto& [name, img] : layers.images) exr_layers.push_back({name, &img});
+  // Each pixel's standard error of the combined image (DESIGN.md §9), beside the layers.
+  const ImageRGB standard_error = error_estimate.standard_error();
+  exr_layers.push_back({"stderr", &standard_error});
   write_exr(exr_path, exr_layers);
   write_png(png_path, layers.images.front().second, o.exposure);
   if (!o.contact_sheet_path.empty()) {
@@ -480,6 +524,20 @@ int run_render(const RenderOptions& o) {
       stats["rb_chains"] = bundle_chains(rb_settings);
     }
     if (reference) stats["reference"] = {{"path", o.reference_path}, {"layers", metrics}};
+    stats["estimated_rel_mse"] = estimated_rel_mse;  // NaN (null) before two batches
+    nlohmann::json levels = nlohmann::json::array();
+    for (int j = 0; j < error_estimate.levels(); ++j)
+      levels.push_back({{"batch_rounds", error_estimate.batch_rounds(j)},
+                        {"batches", error_estimate.batches(j)},
+                        {"estimated_rel_mse", error_estimate.estimated_rel_mse(round_sums, j)}});
+    stats["error_estimate"] = {{"batch_rounds", error_estimate.batch_rounds()},
+                               {"batches", error_estimate.batches()},
+                               {"levels", levels}};
+    if (rb) stats["error_estimate"]["rb_batch_iterations"] = error_estimate.batch_rounds() * (shape ? shape->rb_iterations : 1);
+    if (o.target_error > 0.0) {
+      stats["target_error"] = o.target_error;
+      stats["target_reached"] = outcome.target_reached;
+    }
     write_json_file(o.stats_path, stats);
   }
   std::string done = shape ? std::to_string(pt_samples) + " spp + " + std::to_string(rb_iterations) + " iterations"
@@ -488,6 +546,12 @@ int run_render(const RenderOptions& o) {
   std::fprintf(stderr, "bundlepath: %s%s at %dx%d in %.2f s (%.2f Mrays/s) -> %s, %s\n",
                outcome.interrupted ? "interrupted after " : "", done.c_str(), width, height, outcome.seconds,
                mrays_per_second, exr_path.c_str(), png_path.c_str());
+  if (std::isfinite(estimated_rel_mse))
+    std::fprintf(stderr, "bundlepath: estimated relMSE %.3g (noise only: from %llu batches of at least %llu rounds)%s\n",
+                 estimated_rel_mse, static_cast<unsigned long long>(error_estimate.batches()),
+                 static_cast<unsigned long long>(error_estimate.batch_rounds()),
+                 o.target_error > 0.0 ? (outcome.target_reached ? ": --target-error reached" : ": --target-error not reached")
+                                      : "");
   if (outcome.nonfinite_samples)
     std::fprintf(stderr, "bundlepath: warning: %llu NaN/Inf samples were dropped\n",
                  static_cast<unsigned long long>(outcome.nonfinite_samples));

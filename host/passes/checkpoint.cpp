@@ -9,7 +9,9 @@
 namespace bp {
 namespace {
 
-constexpr char kMagic[8] = {'B', 'P', 'C', 'K', 'P', 'T', '0', '1'};
+constexpr char kMagic[8] = {'B', 'P', 'C', 'K', 'P', 'T', '0', '2'};
+// Version 01 (before issue #16) is read too: it ends before the error estimate's statistics.
+constexpr char kMagicV1[8] = {'B', 'P', 'C', 'K', 'P', 'T', '0', '1'};
 
 struct Writer {
   std::string bytes;
@@ -77,6 +79,46 @@ std::optional<Accumulator> read_accumulator(Reader& r) {
   return a;
 }
 
+void write_error_estimate(Writer& w, const std::optional<BatchMeansErrorEstimate::State>& e) {
+  w.value(std::uint8_t(e.has_value()));
+  if (!e) return;
+  w.value(std::int32_t(e->width));
+  w.value(std::int32_t(e->height));
+  w.value(e->rounds);
+  w.array(e->start_sums);
+  w.value(std::uint32_t(e->levels.size()));
+  for (const BatchMeansErrorEstimate::Level& l : e->levels) {
+    w.value(l.batch_rounds);
+    w.value(l.batches);
+    w.value(l.closed_rounds);
+    w.value(l.open_round);
+    w.array(l.open_sums);
+    w.array(l.sum_sq_over_n);
+  }
+}
+
+std::optional<BatchMeansErrorEstimate::State> read_error_estimate(Reader& r) {
+  if (!r.value<std::uint8_t>()) return std::nullopt;
+  BatchMeansErrorEstimate::State e;
+  e.width = r.value<std::int32_t>();
+  e.height = r.value<std::int32_t>();
+  e.rounds = r.value<std::uint64_t>();
+  e.start_sums = r.array<double>();
+  const std::uint32_t levels = r.value<std::uint32_t>();
+  if (levels > 64) throw std::runtime_error(r.path + ": the checkpoint's error estimate is inconsistent");
+  for (std::uint32_t j = 0; j < levels; ++j) {
+    BatchMeansErrorEstimate::Level l;
+    l.batch_rounds = r.value<std::uint64_t>();
+    l.batches = r.value<std::uint64_t>();
+    l.closed_rounds = r.value<std::uint64_t>();
+    l.open_round = r.value<std::uint64_t>();
+    l.open_sums = r.array<double>();
+    l.sum_sq_over_n = r.array<double>();
+    e.levels.push_back(std::move(l));
+  }
+  return e;
+}
+
 }  // namespace
 
 void write_checkpoint(const std::string& path, const Checkpoint& c) {
@@ -93,6 +135,7 @@ void write_checkpoint(const std::string& path, const Checkpoint& c) {
     w.value(c.rb_state->eye_rounds);
     w.value(std::uint8_t(c.rb_state->warmed_up));
   }
+  write_error_estimate(w, c.error_estimate);
   write_file_atomically(path, "checkpoint", [&](const std::string& tmp) {
     std::ofstream out(tmp, std::ios::binary);
     out.write(w.bytes.data(), std::streamsize(w.bytes.size()));
@@ -104,7 +147,8 @@ Checkpoint read_checkpoint(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error(path + ": cannot read the checkpoint (missing or unreadable)");
   const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (bytes.size() < sizeof kMagic || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
+  const bool v1 = bytes.size() >= sizeof kMagicV1 && std::memcmp(bytes.data(), kMagicV1, sizeof kMagicV1) == 0;
+  if (!v1 && (bytes.size() < sizeof kMagic || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0))
     throw std::runtime_error(path + ": not a bundlepath checkpoint");
   Reader r{bytes, path, sizeof kMagic};
   Checkpoint c;
@@ -120,6 +164,7 @@ Checkpoint read_checkpoint(const std::string& path) {
     s.warmed_up = r.value<std::uint8_t>() != 0;
     c.rb_state = s;
   }
+  if (!v1) c.error_estimate = read_error_estimate(r);
   if (r.at != bytes.size()) throw std::runtime_error(path + ": the checkpoint has trailing bytes");
   return c;
 }

@@ -3,6 +3,7 @@
 // it, so a resume with different options is refused rather than mixed.
 #pragma once
 #include "image/accumulator.h"
+#include "image/error_estimate.h"
 #include "passes/ray_bundles.h"
 #include <cstdint>
 #include <optional>
@@ -16,6 +17,9 @@ struct Checkpoint {
   double render_seconds = 0.0;   // rendering time spent so far, over all runs
   std::optional<Accumulator> pt, rb;
   std::optional<RayBundlePass::State> rb_state;
+  // The error estimate's batch statistics (DESIGN.md §9); absent in checkpoints of before issue #16,
+  // whose resumed render starts its estimate afresh.
+  std::optional<BatchMeansErrorEstimate::State> error_estimate;
 };
 
 // Binary, written atomically (temporary file, then rename). Throws std::runtime_error naming the file.

@@ -31,6 +31,10 @@ RenderOutcome run_progressive(ProgressivePass& pass, const RenderBudget& budget,
     double elapsed = std::chrono::duration<double>(clock::now() - start).count();
     if (budget.rounds && out.rounds >= budget.rounds) break;
     if (budget.seconds > 0.0 && elapsed >= budget.seconds) break;
+    if (budget.target_reached && budget.target_reached()) {
+      out.target_reached = true;
+      break;
+    }
     if (stop_requested.load()) { out.interrupted = true; break; }
     std::uint32_t n = batch_size(out.rounds, budget.rounds, pass.max_batch());
     BatchCounts counts = pass.run(out.rounds, n);

@@ -14,6 +14,9 @@ namespace bp {
 struct RenderBudget {
   std::uint64_t rounds = 0;    // 0: no round target
   double seconds = 0.0;        // 0: no time budget
+  // A further end, asked after each batch's progress report (--target-error: the estimated relMSE
+  // is low enough); empty: none.
+  std::function<bool()> target_reached = nullptr;
 };
 
 struct RenderProgress {
@@ -30,6 +33,7 @@ struct RenderOutcome {
   std::uint64_t nonfinite_samples = 0;
   double seconds = 0.0;
   bool interrupted = false;
+  bool target_reached = false;  // ended by budget.target_reached
 };
 
 // Rounds in the batch that starts after `done` rounds. Batches end on a fixed grid -- 1, 2, 4, ...,
@@ -39,7 +43,7 @@ struct RenderOutcome {
 std::uint32_t batch_size(std::uint64_t done, std::uint64_t target, std::uint32_t max_batch);
 
 // Runs from round first_round (0, or where a resumed render stopped) until the budget's round target
-// (counted from 0), its seconds (counted in this run), or a stop request.
+// (counted from 0), its seconds (counted in this run), its target_reached, or a stop request.
 RenderOutcome run_progressive(ProgressivePass& pass, const RenderBudget& budget,
                               const std::atomic<bool>& stop_requested,
                               const std::function<void(const RenderProgress&)>& on_progress,

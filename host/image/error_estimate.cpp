@@ -1,0 +1,123 @@
+#include "image/error_estimate.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace bp {
+
+BatchMeansErrorEstimate::BatchMeansErrorEstimate(int width, int height, std::uint64_t batch_rounds, int levels,
+                                                 std::uint64_t first_round, const RoundSums* start) {
+  const std::size_t n = std::size_t(width) * height * 3;
+  state_.width = width;
+  state_.height = height;
+  state_.rounds = first_round;
+  if (start) {
+    state_.start_sums.resize(n);
+    for (std::size_t i = 0; i < n; ++i) state_.start_sums[i] = start->at(i);
+  }
+  for (int j = 0; j < std::max(1, levels); ++j) {
+    Level level;
+    level.batch_rounds = std::max<std::uint64_t>(1, batch_rounds) << j;
+    level.open_round = first_round;
+    level.open_sums = state_.start_sums.empty() ? std::vector<double>(n, 0.0) : state_.start_sums;
+    level.sum_sq_over_n.assign(n, 0.0);
+    state_.levels.push_back(std::move(level));
+  }
+}
+
+void BatchMeansErrorEstimate::add(std::uint64_t rounds, const RoundSums& sums) {
+  state_.rounds = rounds;
+  for (Level& level : state_.levels) {
+    const std::uint64_t n = rounds - level.open_round;
+    if (n < level.batch_rounds) continue;
+    const double inv_n = 1.0 / double(n);
+    for (std::size_t i = 0; i < level.open_sums.size(); ++i) {
+      const double now = sums.at(i);
+      const double batch_sum = now - level.open_sums[i];  // X_k: n_k times the batch mean m_k
+      level.sum_sq_over_n[i] += batch_sum * batch_sum * inv_n;  // n_k m_k² (DESIGN.md §9)
+      level.open_sums[i] = now;
+    }
+    ++level.batches;
+    level.closed_rounds += n;
+    level.open_round = rounds;
+  }
+}
+
+namespace {
+// The variance of the image's mean at value i (DESIGN.md §9), from a level's closed batches.
+struct LevelVariance {
+  const BatchMeansErrorEstimate::Level& level;
+  const std::vector<double>& start_sums;
+  double k, n_closed, n_image;
+  double at(std::size_t i) const {
+    // Σ X_k over the closed batches: the sums at the open batch's start less those at the first round.
+    const double sum = level.open_sums[i] - (start_sums.empty() ? 0.0 : start_sums[i]);
+    // Σ n_k (m_k − m)² = Σ X_k²/n_k − (Σ X_k)²/Σ n_k; E = (K − 1) σ² for batches independent (§9).
+    const double s2 = std::max(0.0, (level.sum_sq_over_n[i] - sum * sum / n_closed) / (k - 1.0));
+    return s2 / n_image;  // Var of the mean of the image's N rounds, σ² / N
+  }
+};
+
+template <class PixelValue>
+double rel_mse_of(const LevelVariance& var, std::size_t n, PixelValue image) {
+  double sum = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double v = image(i);
+    sum += var.at(i) / (v * v + 0.01);  // DESIGN.md §7's relMSE, E[(I − R)²] = Var, R ≈ I (§9)
+  }
+  return sum / double(n);
+}
+}  // namespace
+
+std::vector<double> BatchMeansErrorEstimate::variance_of_mean(int level_index) const {
+  const Level& level = state_.levels[std::size_t(level_index)];
+  if (level.batches < 2 || state_.rounds == 0) return {};
+  const LevelVariance var{level, state_.start_sums, double(level.batches), double(level.closed_rounds),
+                          double(state_.rounds)};
+  std::vector<double> out(level.open_sums.size());
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = var.at(i);
+  return out;
+}
+
+double BatchMeansErrorEstimate::estimated_rel_mse(const ImageRGB& image, int level_index) const {
+  const Level& level = state_.levels[std::size_t(level_index)];
+  if (level.batches < 2 || state_.rounds == 0 || image.rgb.size() != level.open_sums.size()) return std::nan("");
+  const LevelVariance var{level, state_.start_sums, double(level.batches), double(level.closed_rounds),
+                          double(state_.rounds)};
+  return rel_mse_of(var, image.rgb.size(), [&](std::size_t i) { return double(image.rgb[i]); });
+}
+
+double BatchMeansErrorEstimate::estimated_rel_mse(const RoundSums& sums, int level_index) const {
+  const Level& level = state_.levels[std::size_t(level_index)];
+  if (level.batches < 2 || state_.rounds == 0) return std::nan("");
+  const LevelVariance var{level, state_.start_sums, double(level.batches), double(level.closed_rounds),
+                          double(state_.rounds)};
+  const double inv_rounds = 1.0 / double(state_.rounds);
+  return rel_mse_of(var, level.open_sums.size(), [&](std::size_t i) { return sums.at(i) * inv_rounds; });
+}
+
+ImageRGB BatchMeansErrorEstimate::standard_error(int level) const {
+  ImageRGB out(state_.width, state_.height);
+  const std::vector<double> var = variance_of_mean(level);
+  for (std::size_t i = 0; i < var.size(); ++i) out.rgb[i] = float(std::sqrt(var[i]));
+  return out;
+}
+
+BatchMeansErrorEstimate BatchMeansErrorEstimate::from_state(State state, int width, int height) {
+  const std::size_t n = std::size_t(width) * height * 3;
+  bool ok = state.width == width && state.height == height && !state.levels.empty() &&
+            (state.start_sums.empty() || state.start_sums.size() == n);
+  for (const Level& l : state.levels)
+    ok = ok && l.open_sums.size() == n && l.sum_sq_over_n.size() == n && l.batch_rounds > 0 &&
+         l.open_round <= state.rounds;
+  if (!ok)
+    throw std::runtime_error("the error estimate's batch statistics do not fit a " + std::to_string(width) + "x" +
+                             std::to_string(height) + " image");
+  BatchMeansErrorEstimate e;
+  e.state_ = std::move(state);
+  return e;
+}
+
+}  // namespace bp

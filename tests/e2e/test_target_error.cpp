@@ -1,0 +1,118 @@
+// --target-error and the error estimate as a user meets them: bad values, a render that stops at its
+// error (checked against the error two independent renders actually have), the stats and the EXR's
+// stderr layer, and the batch statistics through a checkpoint.
+#include "e2e/cli_runner.h"
+#include "image/image.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <cmath>
+#include <fstream>
+
+namespace bp::test {
+namespace {
+
+const std::string kBox = std::string(BP_SOURCE_DIR) + "/scenes/cornell-box.gltf ";
+
+nlohmann::json read_json(const std::string& path) { return nlohmann::json::parse(std::ifstream(path)); }
+
+TEST(TargetError, BadValuesExitTwoWithOneLine) {
+  struct Case { std::string args, needle; };
+  const Case cases[] = {
+      {"--target-error 0", "--target-error"},
+      {"--target-error -0.001", "--target-error"},
+      {"--target-error nan", "--target-error"},
+      {"--target-error inf", "--target-error"},
+      {"--target-error abc", "--target-error"},
+      {"--target-error", "--target-error"},
+      {"--target-error 0.001 --spp 16", "--spp"},
+      {"--mode rb --target-error 0.001 --iterations 16", "--iterations"},
+      {"--mode combined --spp 4 --target-error 0.01", "--target-error"},
+      {"--error-batch 0", "--error-batch"},
+      {"--error-levels 0", "--error-levels"},
+  };
+  for (const Case& c : cases) {
+    CliResult r = run_cli("render " + kBox + c.args);
+    EXPECT_EQ(r.exit_code, 2) << c.args << "\n" << r.output;
+    EXPECT_NE(r.output.find(c.needle), std::string::npos) << c.args << "\n" << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << c.args << "\n" << r.output;
+  }
+}
+
+// Two renders with independent seeds stop at --target-error 0.001; the error they really have is
+// measured from their difference, E[(I1 − I2)²] = Var1 + Var2 (the path tracer is unbiased, so this
+// is its whole relMSE), with R ≈ (I1 + I2)/2 in DESIGN.md §7's denominator. The issue asks for
+// 0.0005..0.0015; each run's own estimate must be within 1.5x of the measured value.
+TEST(TargetError, CornellBoxStopsNearTheTargetError) {
+  const std::string dir = fresh_dir("target_error_box");
+  double estimated[2];
+  for (int s = 0; s < 2; ++s) {
+    const std::string out = dir + "/seed" + std::to_string(s + 1);
+    CliResult r = run_cli("render " + kBox + "--width 128 --height 128 --target-error 0.001 --seed " +
+                          std::to_string(s + 1) + " --out " + out + " --stats " + out + ".json");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    nlohmann::json stats = read_json(out + ".json");
+    EXPECT_EQ(stats["target_reached"], true);
+    EXPECT_GE(stats["error_estimate"]["batches"].get<int>(), 8);
+    estimated[s] = stats["estimated_rel_mse"].get<double>();
+    EXPECT_LE(estimated[s], 0.001);
+  }
+  const ImageRGB a = read_exr(dir + "/seed1.exr"), b = read_exr(dir + "/seed2.exr");
+  double sum = 0.0;
+  for (std::size_t i = 0; i < a.rgb.size(); ++i) {
+    const double d = double(a.rgb[i]) - b.rgb[i], r = 0.5 * (double(a.rgb[i]) + b.rgb[i]);
+    sum += 0.5 * d * d / (r * r + 0.01);  // (Var1 + Var2) / 2: each run's relMSE, on average
+  }
+  const double measured = sum / double(a.rgb.size());
+  EXPECT_GT(measured, 0.0005);
+  EXPECT_LT(measured, 0.0015);
+  const double mean_estimate = 0.5 * (estimated[0] + estimated[1]);
+  EXPECT_LT(mean_estimate, 1.5 * measured) << "measured " << measured;
+  EXPECT_GT(mean_estimate, measured / 1.5) << "measured " << measured;
+  // The stderr layer is the per-pixel standard error: its mean square over the image is the
+  // variance the relMSE averages.
+  const ImageRGB se = read_exr(dir + "/seed1.exr", "stderr");
+  ASSERT_EQ(se.rgb.size(), a.rgb.size());
+  double rel = 0.0;
+  for (std::size_t i = 0; i < a.rgb.size(); ++i)
+    rel += double(se.rgb[i]) * se.rgb[i] / (double(a.rgb[i]) * a.rgb[i] + 0.01);
+  EXPECT_NEAR(rel / double(a.rgb.size()), estimated[0], 1e-3 * estimated[0]);
+}
+
+// --time caps a target that cannot be reached in it: the render ends by time, and says so.
+TEST(TargetError, TimeCapsAnUnreachableTarget) {
+  const std::string dir = fresh_dir("target_error_cap");
+  CliResult r = run_cli("render " + kBox + "--width 32 --height 32 --target-error 1e-12 --time 3 --out " + dir +
+                        "/img --stats " + dir + "/s.json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  nlohmann::json stats = read_json(dir + "/s.json");
+  EXPECT_EQ(stats["target_reached"], false);
+  EXPECT_GE(stats["render_seconds"].get<double>(), 3.0);  // only the cap ends it (a lower bound, not a timing test)
+  // On a loaded machine the first launches may fill the 3 s: the estimate needs two batches.
+  if (stats["estimated_rel_mse"].is_number()) {
+    EXPECT_GT(stats["estimated_rel_mse"].get<double>(), 1e-12);
+    EXPECT_NE(r.output.find("--target-error not reached"), std::string::npos) << r.output;
+  }
+}
+
+// A render stopped and resumed continues the same batches: the estimate and the stderr layer equal
+// those of an uninterrupted render, bit for bit, in every mode.
+TEST(TargetError, EstimateSurvivesACheckpoint) {
+  const std::string dir = fresh_dir("target_error_checkpoint");
+  const std::string common = "render " + std::string(BP_SOURCE_DIR) + "/scenes/cornell-glossy.gltf --width 24 --height 18 ";
+  for (const std::string mode : {"--mode pt --spp", "--mode rb --error-batch 16 --iterations",
+                                 "--mode combined --ratio 1/4 --error-batch 16 --spp"}) {
+    ASSERT_EQ(run_cli(common + mode + " 96 --out " + dir + "/whole --stats " + dir + "/whole.json").exit_code, 0) << mode;
+    ASSERT_EQ(run_cli(common + mode + " 32 --checkpoint " + dir + "/ck --out " + dir + "/first").exit_code, 0) << mode;
+    CliResult r = run_cli(common + mode + " 96 --resume " + dir + "/ck --stats " + dir + "/rest.json --out " + dir + "/rest");
+    ASSERT_EQ(r.exit_code, 0) << mode << "\n" << r.output;
+    nlohmann::json whole = read_json(dir + "/whole.json"), rest = read_json(dir + "/rest.json");
+    ASSERT_TRUE(whole["estimated_rel_mse"].is_number()) << mode;
+    EXPECT_EQ(rest["estimated_rel_mse"], whole["estimated_rel_mse"]) << mode;
+    EXPECT_EQ(rest["error_estimate"]["batches"], whole["error_estimate"]["batches"]) << mode;
+    EXPECT_EQ(read_exr(dir + "/rest.exr", "stderr").rgb, read_exr(dir + "/whole.exr", "stderr").rgb) << mode;
+  }
+}
+
+}  // namespace
+}  // namespace bp::test
