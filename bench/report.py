@@ -450,7 +450,7 @@ def cmd_ratio(args):
         md.append("")
         shares = sorted(x[7] for x in summary if x[7] is not None)
         if shares:
-            md.append(f"The last column is the `kAutoRatioPtTimeShare` (passes/combined.h) at which `--ratio auto` "
+            md.append(f"The last column is the PT time share (`kAutoRatioPtTimeShareEyeShared` / `...EyePt`, passes/combined.h) at which `--ratio auto` "
                       f"would have picked each scene's best fixed ratio, from the probe's measured costs; median "
                       f"{shares[len(shares) // 2]:.2f}, range {shares[0]:.2f}–{shares[-1]:.2f}.")
             md.append("")
