@@ -10,19 +10,19 @@ namespace {
 
 TEST(AutoRatio, GivesPtItsShareOfTheTime) {
   for (double f : {auto_ratio_pt_time_share(false), auto_ratio_pt_time_share(true)})
-  for (double t_pt : {1e-4, 3e-3, 0.2})
-    for (double t_rb : {1e-4, 2e-3, 0.05}) {
-      const RoundShape shape = auto_ratio_shape(t_pt, t_rb, f);
-      const double c = shape.ratio(), exact = f / (1 - f) * t_rb / t_pt;
-      EXPECT_EQ(std::exp2(std::round(std::log2(c))), c) << "a power of 2";
-      if (exact > 1.0 / 1024 && exact < 64) {
-        EXPECT_LE(std::fabs(std::log2(c / exact)), 0.5 + 1e-9) << f << " " << t_pt << " " << t_rb;
-        const double share = shape.pt_samples * t_pt / (shape.pt_samples * t_pt + shape.rb_iterations * t_rb);
-        EXPECT_NEAR(share, f, 0.15) << t_pt << " " << t_rb;
+    for (double t_pt : {1e-4, 3e-3, 0.2})
+      for (double t_rb : {1e-4, 2e-3, 0.05}) {
+        const RoundShape shape = auto_ratio_shape(t_pt, t_rb, f);
+        const double c = shape.ratio(), exact = f / (1 - f) * t_rb / t_pt;
+        EXPECT_EQ(std::exp2(std::round(std::log2(c))), c) << "a power of 2";
+        if (exact > 1.0 / 1024 && exact < 64) {
+          EXPECT_LE(std::fabs(std::log2(c / exact)), 0.5 + 1e-9) << f << " " << t_pt << " " << t_rb;
+          const double share = shape.pt_samples * t_pt / (shape.pt_samples * t_pt + shape.rb_iterations * t_rb);
+          EXPECT_NEAR(share, f, 0.15) << t_pt << " " << t_rb;
+        }
+        EXPECT_EQ(round_shape(c).pt_samples, shape.pt_samples);
+        EXPECT_EQ(round_shape(c).rb_iterations, shape.rb_iterations);
       }
-      EXPECT_EQ(round_shape(c).pt_samples, shape.pt_samples);
-      EXPECT_EQ(round_shape(c).rb_iterations, shape.rb_iterations);
-    }
 }
 
 TEST(AutoRatio, StaysWithinItsRange) {
