@@ -111,6 +111,9 @@ options (defaults in brackets):
   --patch-size M      target patch edge in metres              [scene diagonal / 20]
   --bins R            transillumination buffer R x R bins (rb) [an average patch covers 4 bins]
   --warmup N          ray-bundle iterations before the image starts (rb)  [16]
+  --contact-depth F   rb: surfaces closer than F times the scene's bounding diameter along a
+                      bundle direction touch: they exchange nothing, and a patch's incoming
+                      light is the mean over its uncovered part; 0 turns it off   [0.001]
   --environment R,G,B uniform environment radiance (W sr^-1 m^-2, linear RGB) that every ray
                       leaving the scene sees: the background, and light from every open
                       direction (PT: by BSDF sampling; RB: where no patch is in front)  [0,0,0]
@@ -155,6 +158,9 @@ RenderOptions parse_render_options(const std::vector<std::string>& args) {
          iterations_given = true;
        }},
       {"--bins", [&](auto& k, auto& v) { o.bins = parse_number<std::uint32_t>(k, v, 1, 16384, "an integer in 1..16384"); }},
+      {"--contact-depth", [&](auto& k, auto& v) {
+         o.contact_depth = parse_number<float>(k, v, 0.0f, 0.1f, "a fraction of the scene's diameter in [0, 0.1]");
+       }},
       {"--warmup", [&](auto& k, auto& v) {
          o.warmup = parse_number<std::uint32_t>(k, v, 0, 1u << 20, "an integer in 0..1048576");
        }},

@@ -23,6 +23,7 @@ struct RenderOptions {
   std::uint64_t iterations = 0;  // --mode rb/combined; 0 and no time: 1000 (rb)
   std::uint32_t bins = 0;        // 0: chosen from the patch count
   std::uint32_t warmup = 16;     // ray-bundle iterations before the first eye estimate
+  float contact_depth = -1.0f;   // --contact-depth: touching surfaces' depth, a fraction of the scene; < 0: kContactDepthFraction
   bool gouraud = true;           // --rb-shading gouraud|flat
   double seconds = 0.0;
   double target_error = 0.0;     // --target-error: stop once the estimated relMSE is at most this; 0: none

@@ -75,6 +75,7 @@ std::string options_key(const RenderOptions& o, int width, int height, float pat
            std::to_string(o.environment[2]);
   if (o.mode != "pt")
     key += ";bins=" + std::to_string(bins) + ";warmup=" + std::to_string(o.warmup) +
+           (o.contact_depth >= 0.0f ? ";contact_depth=" + std::to_string(o.contact_depth) : "") +
            ";shading=" + (o.gouraud ? "gouraud" : "flat");
   if (shape)
     key += ";weights=" + o.weights + ";beta=" + o.beta + ";light_rate=" + std::to_string(o.light_rate) +
@@ -208,6 +209,7 @@ int run_render(const RenderOptions& o) {
     const BundleSize size = bundle_size(scene, patches);
     rb_settings.seed = o.seed;
     rb_settings.bins = o.bins ? o.bins : default_bins(size);
+    if (o.contact_depth >= 0.0f) rb_settings.contact_depth_fraction = o.contact_depth;
     rb_settings.warmup = o.warmup;
     rb_settings.gouraud = o.gouraud;
     rb_settings.light_sampling = light_sampling;
@@ -514,6 +516,7 @@ int run_render(const RenderOptions& o) {
       stats["iterations"] = rb_iterations;
       stats["warmup_iterations"] = o.warmup;
       stats["bins"] = rb->bins();
+      stats["contact_depth"] = rb_settings.contact_depth_fraction;
       stats["elements"] = geometry->elements.size();
       stats["fragments_per_iteration"] = iterations > 0 ? double(outcome.fragments) / iterations : 0.0;
       stats["ms_per_iteration"] = rb_iterations && !shape ? outcome.seconds * 1e3 / iterations : 0.0;

@@ -231,6 +231,9 @@ TEST(Cli, CombinedModeOptionErrors) {
       {"--mode combined --light-selection nearest", "--light-selection", 2},
       {"--mode combined --spp 4 --iterations 4", "not both", 2},
       {"--mode combined --layers some", "--layers", 2},
+      {"--mode combined --contact-depth -0.001", "--contact-depth", 2},
+      {"--mode combined --contact-depth 0.5", "--contact-depth", 2},
+      {"--mode combined --contact-depth near", "--contact-depth", 2},
       {"--mode combined --spp 1 --reference " + dir + "/missing.exr", "missing.exr", 1},
   };
   for (const Case& c : cases) {
