@@ -137,10 +137,6 @@ options (defaults in brackets):
 )";
 }
 
-bool light_sampling_applies(const RenderOptions& o) {
-  return o.light_sampling && (o.mode == "pt" || (o.mode == "combined" && o.weights == "product"));
-}
-
 RenderOptions parse_render_options(const std::vector<std::string>& args) {
   RenderOptions o;
   bool spp_given = false, iterations_given = false;
