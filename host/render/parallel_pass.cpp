@@ -20,6 +20,10 @@ RoundShape concurrent_ratio_shape(double pt_seconds_per_spp, double rb_seconds_p
 }
 
 namespace {
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
 void add(BatchCounts& total, const BatchCounts& c) {
   total.rays += c.rays;
   total.fragments += c.fragments;
@@ -50,6 +54,8 @@ ParallelPass::ParallelPass(std::vector<DeviceLane> lanes, std::optional<RoundSha
     unsigned long long batch = 0;
     if (std::sscanf(hook, "%d:%llu", &fail_device_, &batch) >= 1) fail_batch_ = batch;
   }
+  if (const char* hook = std::getenv(kSlowDeviceVariable))
+    if (std::sscanf(hook, "%d:%lf", &slow_device_, &slow_factor_) != 2) slow_device_ = -1;
 }
 
 std::vector<std::uint64_t> ParallelPass::pt_split(std::uint64_t first, std::uint64_t end) const {
@@ -57,7 +63,7 @@ std::vector<std::uint64_t> ParallelPass::pt_split(std::uint64_t first, std::uint
   bool measured = true;
   for (const DeviceLane& lane : lanes_)
     if (lane.pt) {
-      speed.push_back(lane.busy_seconds > 0.0 ? double(lane.pt_samples) / lane.busy_seconds : 0.0);
+      speed.push_back(lane.sampling_seconds > 0.0 ? double(lane.pt_samples) / lane.sampling_seconds : 0.0);
       measured = measured && lane.pt_samples > 0;
     }
   if (!measured) std::fill(speed.begin(), speed.end(), 1.0);
@@ -78,7 +84,12 @@ void ParallelPass::run_lane(DeviceLane& lane, std::uint64_t first, std::uint64_t
   clear(*lane.accum);
   if (lane.device_index == fail_device_ && lane.batches == fail_batch_)
     throw DeviceError("simulated failure (" + std::string(kFailDeviceVariable) + ")");
+  auto sampling = std::chrono::steady_clock::now();
   if (lane.pt) {  // launches that end on multiples of max_batch, as CombinedPass launches them
+    if (lane.batches == 0) {  // no sample: pays the first launch outside the speed
+      lane.pt->run(0, 0);
+      sampling = std::chrono::steady_clock::now();
+    }
     const std::uint64_t pt_max = std::max<std::uint32_t>(1, lane.pt->max_batch());
     for (std::uint64_t s = first; s < end;) {
       const std::uint64_t next = std::min(end, (s / pt_max + 1) * pt_max);
@@ -88,7 +99,10 @@ void ParallelPass::run_lane(DeviceLane& lane, std::uint64_t first, std::uint64_t
   } else if (end > first) {
     add(counts, lane.rb->run(first, std::uint32_t(end - first)));
   }
-  lane.busy_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (lane.device_index == slow_device_)
+    std::this_thread::sleep_for(std::chrono::duration<double>((slow_factor_ - 1.0) * seconds_since(sampling)));
+  if (lane.pt) lane.sampling_seconds += seconds_since(sampling);
+  lane.busy_seconds += seconds_since(start);
 }
 
 BatchCounts ParallelPass::run(std::uint64_t first, std::uint32_t count) {

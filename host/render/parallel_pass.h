@@ -2,7 +2,8 @@
 // passes, which run at the same time, each on a host thread of its own and into an accumulator of
 // its own; once every device has finished the batch, their sums are added to the render's
 // accumulators. RB runs on one device (its iterations are one chain); PT is split over its devices
-// by sample index, in proportion to each one's measured speed (work_balancer-style: never guessed).
+// by sample index, in proportion to each one's measured speed (work_balancer-style: never guessed),
+// measured after an untimed first launch (which builds PoCL's work-group code, seconds when cold).
 #pragma once
 #include "image/accumulator.h"
 #include "passes/combined.h"
@@ -24,6 +25,7 @@ struct DeviceLane {
   Accumulator* accum = nullptr;
   std::uint64_t pt_samples = 0, rb_iterations = 0;  // done in this run
   double busy_seconds = 0.0;                        // its pass's time in this run
+  double sampling_seconds = 0.0;                    // of which PT's counted samples (its speed)
   std::uint64_t batches = 0;                        // batches it took part in
 };
 
@@ -36,6 +38,10 @@ RoundShape concurrent_ratio_shape(double pt_seconds_per_spp, double rb_seconds_p
 // Test hook: BUNDLEPATH_TEST_FAIL_DEVICE=INDEX:BATCH makes device INDEX fail (as a lost device
 // would) in its batch number BATCH (from 0) of a render on several devices.
 constexpr const char* kFailDeviceVariable = "BUNDLEPATH_TEST_FAIL_DEVICE";
+// Test hook: BUNDLEPATH_TEST_SLOW_DEVICE=INDEX:FACTOR makes device INDEX take FACTOR times as long
+// (it waits FACTOR - 1 times its work after each batch): two PoCL devices share the same cores, so
+// on a loaded machine "basic" and "pthread" can run at about the same speed.
+constexpr const char* kSlowDeviceVariable = "BUNDLEPATH_TEST_SLOW_DEVICE";
 
 class ParallelPass : public ProgressivePass {
  public:
@@ -62,6 +68,8 @@ class ParallelPass : public ProgressivePass {
   Accumulator& rb_total_;
   int fail_device_ = -1;
   std::uint64_t fail_batch_ = 0;
+  int slow_device_ = -1;
+  double slow_factor_ = 1.0;
 };
 
 }  // namespace bp
