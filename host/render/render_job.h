@@ -6,6 +6,8 @@
 #include "passes/render_loop.h"
 #include "render/render_spec.h"
 
+#include <nlohmann/json.hpp>
+
 #include <atomic>
 #include <cmath>
 #include <memory>
@@ -59,6 +61,10 @@ struct RenderResult {
   double estimated_rel_mse = NAN;
   std::uint64_t error_batches = 0, error_batch_rounds = 0;
   std::vector<DeviceWorkReport> devices;
+  // The image's layers as written ("" the combined image; render_outputs.h), and the stats (written
+  // to --stats when given).
+  std::vector<std::pair<std::string, ImageRGB>> layers;
+  nlohmann::json stats;
   std::string device_failure;  // empty, or which device failed mid-render and why (the image is what was done)
 };
 

@@ -14,6 +14,7 @@
 #include "render/render_scene.h"
 #include "scene/bundle_geometry.h"
 
+#include <cstdio>
 #include <deque>
 #include <memory>
 #include <optional>
@@ -72,5 +73,13 @@ struct RenderState {
   RenderDevice& rb_device() { return *devices[roles.rb]; }
   bool several_devices() const { return devices.size() > 1; }
 };
+
+// printf into a std::string, for the observer's notes.
+template <class... Args>
+std::string printf_text(const char* format, Args... args) {
+  char buf[512];
+  std::snprintf(buf, sizeof buf, format, args...);
+  return buf;
+}
 
 }  // namespace bp

@@ -1,6 +1,5 @@
 #include "render/render_stats.h"
 
-#include "image/stats_io.h"
 #include "render/render_state.h"
 
 #include <map>
@@ -95,7 +94,7 @@ void add_error_estimate_stats(const RenderState& s, nlohmann::json& stats) {
 
 }  // namespace
 
-void write_stats(const RenderState& s, const RenderResult& r) {
+nlohmann::json render_stats(const RenderState& s, const RenderResult& r) {
   const RenderSpec& o = s.spec;
   const RenderOutcome& outcome = s.outcome;
   const DeviceScene& device_scene = s.devices.front()->scene;
@@ -149,7 +148,7 @@ void write_stats(const RenderState& s, const RenderResult& r) {
     stats["target_error"] = o.target_error;
     stats["target_reached"] = outcome.target_reached;
   }
-  write_json_file(o.stats_path, stats);
+  return stats;
 }
 
 }  // namespace bp

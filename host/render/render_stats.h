@@ -6,7 +6,7 @@ namespace bp {
 
 struct RenderState;
 
-// Throws std::runtime_error naming the file if it cannot be written.
-void write_stats(const RenderState& s, const RenderResult& result);
+// The stats of a finished render (its result holds the counts and the reference metrics).
+nlohmann::json render_stats(const RenderState& s, const RenderResult& result);
 
 }  // namespace bp
