@@ -61,7 +61,9 @@ options (defaults in brackets):
   --error-levels L    also estimate from batches 2, 4, ... 2^(L-1) times longer, into --stats
                       (the check that the batches outlast RB's correlation)   [1]
   --seed K            random seed; same seed, same device -> bit-identical image   [1]
-  --device SPEC       device index or name substring (see `bundlepath devices`)  [first GPU, else CPU]
+  --device SPEC       device index or name substring (see `bundlepath devices`), or several,
+                      comma-separated, or all: combined runs RB on the first and PT on the
+                      others at the same time; pt splits its samples over all  [first GPU, else CPU]
   --mode MODE         pt (path tracing), rb (global ray-bundle iteration), or combined
                       (both, weighted per path so the sum stays unbiased)      [pt]
   --weights W         combined: product (exact per-vertex weights), paper (the paper's
@@ -135,10 +137,6 @@ options (defaults in brackets):
   --max-depth N       safety cap on path length                [65536]
   -h, --help          this text
 )";
-}
-
-bool light_sampling_applies(const RenderOptions& o) {
-  return o.light_sampling && (o.mode == "pt" || (o.mode == "combined" && o.weights == "product"));
 }
 
 RenderOptions parse_render_options(const std::vector<std::string>& args) {

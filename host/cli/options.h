@@ -1,65 +1,13 @@
 // Command-line options of `bundlepath render`, parsed and range-checked.
 #pragma once
-#include <cstdint>
-#include <stdexcept>
-#include <array>
+#include "render/render_spec.h"
 #include <string>
 #include <vector>
 
 namespace bp {
 
-// A command line that cannot be used: exit code 2, message names the option.
-class UsageError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
-
-struct RenderOptions {
-  std::string scene;
-  std::string out_prefix;        // default: out/<scene file stem>
-  int width = 512;
-  int height = 0;                // 0: from the width and the camera's aspect ratio (square if none)
-  std::uint64_t spp = 0;         // --mode pt/combined; 0 and no time: 64 (pt)
-  std::uint64_t iterations = 0;  // --mode rb/combined; 0 and no time: 1000 (rb)
-  std::uint32_t bins = 0;        // 0: chosen from the patch count
-  std::uint32_t warmup = 16;     // ray-bundle iterations before the first eye estimate
-  float contact_depth = -1.0f;   // --contact-depth: touching surfaces' depth, a fraction of the scene; < 0: kContactDepthFraction
-  bool gouraud = true;           // --rb-shading gouraud|flat
-  double seconds = 0.0;
-  double target_error = 0.0;     // --target-error: stop once the estimated relMSE is at most this; 0: none
-  std::uint64_t error_batch = 0;  // RB iterations per batch of the error estimate; 0: kErrorBatchRbIterations
-  int error_levels = 1;          // batch lengths error_batch · 2^j, j < error_levels, in the stats (blocking)
-  std::uint32_t seed = 1;
-  std::string device;            // empty: first GPU, else first CPU
-  std::string mode = "pt";       // pt, rb, combined
-  std::string weights = "product";  // combined: product, paper, none
-  std::string beta = "clamped";     // product weights: the per-vertex beta, clamped or balance
-  float light_rate = 0.0f;          // combined + light sampling: RB's light-sample rate; 0: default_light_rate
-  std::string eye_direct = "auto";  // combined + light sampling: the eye vertex's direct light, shared, pt or auto
-  double ratio = -1.0;           // combined: PT samples per pixel per RB iteration (0: RB alone); < 0: auto
-  bool all_layers = false;       // --layers all: also pt_raw and rb_raw
-  bool light_sampling = true;    // --no-light-sampling turns it off (light_sampling_applies says where it acts)
-  std::string light_selection = "tree";  // light sampling's choice of light: tree (per receiving patch) or power
-  bool generic_kernels = false;  // --kernels generic: every feature compiled in (for comparison)
-  std::string reference_path;    // --reference REF.exr
-  std::string contact_sheet_path;
-  std::string checkpoint_path;   // --checkpoint FILE: written every checkpoint_every seconds and at the end
-  double checkpoint_every = 60.0;
-  std::string resume_path;       // --resume FILE: continue a checkpointed render
-  float patch_size = 0.0f;       // metres; 0: derived from the scene's extent
-  std::string stats_path;
-  float exposure = 0.0f;         // PNG exposure in stops
-  std::array<float, 3> environment{0.0f, 0.0f, 0.0f};  // --environment R,G,B: uniform radiance, W sr^-1 m^-2
-  std::uint32_t max_depth = 65536;
-};
-
-// Whether light sampling (DESIGN.md §3) is part of this render: asked for, and a mode that has it
-// (--mode pt; --mode combined with product weights). RB alone, the paper's weights and the plain
-// sum keep the paper's two estimators.
-bool light_sampling_applies(const RenderOptions& o);
-
-// --ratio auto (the default of --mode combined): a timed probe before the render picks c.
-inline bool ratio_is_auto(const RenderOptions& o) { return o.mode == "combined" && o.ratio < 0.0; }
+// The options of one render are a RenderSpec (render/render_spec.h): the engine's input.
+using RenderOptions = RenderSpec;
 
 // Parses the arguments after "render". Throws UsageError.
 RenderOptions parse_render_options(const std::vector<std::string>& args);

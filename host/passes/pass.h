@@ -6,6 +6,7 @@
 #include "image/accumulator.h"
 #include <cstddef>
 #include <cstdint>
+#include <stdexcept>
 #include <vector>
 
 namespace bp {
@@ -16,10 +17,18 @@ struct BatchCounts {
   std::uint64_t nonfinite_samples = 0;  // samples dropped because they were NaN or Inf
 };
 
+// A batch that did not complete (a device failed during it): nothing of it was added, and the
+// render ends with the rounds before it. The message names the device.
+class PassFailure : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 class ProgressivePass {
  public:
   virtual ~ProgressivePass() = default;
-  // Rounds [first, first + count): adds their estimates into the pass's accumulator(s).
+  // Rounds [first, first + count): adds their estimates into the pass's accumulator(s). Throws
+  // PassFailure if it could add none of them.
   virtual BatchCounts run(std::uint64_t first, std::uint32_t count) = 0;
   // Most rounds in one batch (so a batch stays a fraction of a second).
   virtual std::uint32_t max_batch() const = 0;

@@ -37,7 +37,13 @@ RenderOutcome run_progressive(ProgressivePass& pass, const RenderBudget& budget,
     }
     if (stop_requested.load()) { out.interrupted = true; break; }
     std::uint32_t n = batch_size(out.rounds, budget.rounds, pass.max_batch());
-    BatchCounts counts = pass.run(out.rounds, n);
+    BatchCounts counts;
+    try {
+      counts = pass.run(out.rounds, n);
+    } catch (const PassFailure& e) {
+      out.failure = e.what();
+      break;
+    }
     out.rounds += n;
     out.rays += counts.rays;
     out.fragments += counts.fragments;

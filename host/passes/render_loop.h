@@ -8,6 +8,7 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <string>
 
 namespace bp {
 
@@ -34,6 +35,7 @@ struct RenderOutcome {
   double seconds = 0.0;
   bool interrupted = false;
   bool target_reached = false;  // ended by budget.target_reached
+  std::string failure;          // ended by a batch that failed (PassFailure's message); empty: none
 };
 
 // Rounds in the batch that starts after `done` rounds. Batches end on a fixed grid -- 1, 2, 4, ...,
@@ -43,7 +45,8 @@ struct RenderOutcome {
 std::uint32_t batch_size(std::uint64_t done, std::uint64_t target, std::uint32_t max_batch);
 
 // Runs from round first_round (0, or where a resumed render stopped) until the budget's round target
-// (counted from 0), its seconds (counted in this run), its target_reached, or a stop request.
+// (counted from 0), its seconds (counted in this run), its target_reached, a stop request, or a
+// batch that failed.
 RenderOutcome run_progressive(ProgressivePass& pass, const RenderBudget& budget,
                               const std::atomic<bool>& stop_requested,
                               const std::function<void(const RenderProgress&)>& on_progress,

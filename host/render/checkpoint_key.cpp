@@ -1,0 +1,46 @@
+#include "render/checkpoint_key.h"
+
+#include <cstdio>
+#include <filesystem>
+
+namespace bp {
+
+std::string options_key(const RenderSpec& o, int width, int height, float patch_size, std::uint32_t bins,
+                        const std::optional<RoundShape>& shape, const std::string& eye_direct) {
+  std::string key = "scene=" + std::filesystem::absolute(o.scene).lexically_normal().string() +
+                    ";mode=" + o.mode + ";size=" + std::to_string(width) + "x" + std::to_string(height) +
+                    ";seed=" + std::to_string(o.seed) + ";patch_size=" + std::to_string(patch_size) +
+                    ";max_depth=" + std::to_string(o.max_depth) + ";layers=" + (o.all_layers ? "all" : "default") +
+                    ";light_sampling=" + (light_sampling_applies(o) ? "on;light_selection=" + o.light_selection : "off") +
+                    ";kernels=" + (o.generic_kernels ? "generic" : "specialised");
+  if (o.environment != std::array<float, 3>{0.0f, 0.0f, 0.0f})
+    key += ";environment=" + std::to_string(o.environment[0]) + "," + std::to_string(o.environment[1]) + "," +
+           std::to_string(o.environment[2]);
+  if (o.mode != "pt")
+    key += ";bins=" + std::to_string(bins) + ";warmup=" + std::to_string(o.warmup) +
+           (o.contact_depth >= 0.0f ? ";contact_depth=" + std::to_string(o.contact_depth) : "") +
+           ";shading=" + (o.gouraud ? "gouraud" : "flat");
+  if (shape)
+    key += ";weights=" + o.weights + ";beta=" + o.beta + ";light_rate=" + std::to_string(o.light_rate) +
+           ";eye_direct=" + eye_direct +
+           ";round=" + std::to_string(shape->pt_samples) + "spp+" + std::to_string(shape->rb_iterations) + "it";
+  return key;
+}
+
+std::optional<RoundShape> round_of_key(const std::string& key) {
+  const std::string tag = ";round=";
+  const std::size_t at = key.find(tag);
+  if (at == std::string::npos) return std::nullopt;
+  unsigned long long spp = 0, iterations = 0;
+  if (std::sscanf(key.c_str() + at + tag.size(), "%lluspp+%lluit", &spp, &iterations) != 2 || iterations == 0)
+    return std::nullopt;
+  return RoundShape{std::uint32_t(spp), std::uint32_t(iterations)};
+}
+
+std::optional<bool> eye_direct_shared_of_key(const std::string& key) {
+  if (key.find(";eye_direct=shared") != std::string::npos) return true;
+  if (key.find(";eye_direct=pt") != std::string::npos) return false;
+  return std::nullopt;
+}
+
+}  // namespace bp

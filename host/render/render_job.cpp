@@ -1,0 +1,233 @@
+// The stages of a render: scene -> devices -> passes -> (probe) -> resume -> rounds -> outputs.
+#include "render/render_job.h"
+
+#include "image/stats_io.h"
+#include "render/checkpoint_key.h"
+#include "render/render_outputs.h"
+#include "render/render_passes.h"
+#include "render/render_state.h"
+#include "render/render_stats.h"
+
+#include <cmath>
+
+namespace bp {
+namespace {
+
+// A resumed render starts from the checkpoint's accumulators, ray-bundle state and round count.
+void resume(RenderState& s) {
+  const RenderSpec& o = s.spec;
+  s.key = options_key(o, s.scene.width, s.scene.height, s.scene.patch_size, s.rb ? s.rb_settings.bins : 0, s.shape,
+                      s.eye_direct_shared ? "shared" : "pt");
+  if (!s.resumed) return;
+  Checkpoint& c = *s.resumed;
+  if (c.options != s.key)
+    throw UsageError("--resume " + o.resume_path + " was saved with other options:\n  saved: " + c.options +
+                     "\n  now:   " + s.key);
+  if (!s.pt.empty() && c.pt) s.pt_accum = *c.pt;
+  if (s.rb && c.rb) s.rb_accum = *c.rb;
+  if (s.rb && c.rb_state) s.rb->load_state(*c.rb_state);
+  s.first_round = c.rounds;
+  s.earlier_seconds = c.render_seconds;
+}
+
+// The error estimate (DESIGN.md §9): batches of both estimators together, each long enough for RB's
+// chain -- kErrorBatchRbIterations iterations (--error-batch), in rounds of the combination.
+void start_error_estimate(RenderState& s) {
+  const RenderSpec& o = s.spec;
+  const std::uint64_t rb_batch_iterations = o.error_batch ? o.error_batch : kErrorBatchRbIterations;
+  const std::uint64_t error_batch_rounds =
+      !s.rb ? 1 : s.shape ? (rb_batch_iterations + s.shape->rb_iterations - 1) / s.shape->rb_iterations
+                          : rb_batch_iterations;
+  // The image times the rounds: pt.sum / N1 + rb.sum / N2 per round (eq. 3; N1 = N2 = 1 alone).
+  if (!s.pt.empty() && (!s.shape || s.shape->pt_samples > 0)) {
+    s.round_sums.first = &s.pt_accum.sum;
+    s.round_sums.first_scale = s.shape ? 1.0 / s.shape->pt_samples : 1.0;
+  }
+  if (s.rb) {
+    s.round_sums.second = &s.rb_accum.sum;
+    s.round_sums.second_scale = s.shape ? 1.0 / s.shape->rb_iterations : 1.0;
+  }
+  const int width = s.scene.width, height = s.scene.height;
+  if (s.resumed && s.resumed->error_estimate)
+    s.error_estimate.emplace(BatchMeansErrorEstimate::from_state(*s.resumed->error_estimate, width, height));
+  else
+    s.error_estimate.emplace(width, height, error_batch_rounds, o.error_levels, s.first_round,
+                             s.first_round ? &s.round_sums : nullptr);
+  s.estimated_rel_mse = s.error_estimate->estimated_rel_mse(s.round_sums);
+}
+
+void save_checkpoint(RenderState& s, std::uint64_t rounds, double seconds) {
+  Checkpoint c;
+  c.options = s.key;
+  c.rounds = rounds;
+  c.render_seconds = s.earlier_seconds + seconds;
+  if (!s.pt.empty()) c.pt = s.pt_accum;
+  if (s.rb) {
+    c.rb = s.rb_accum;
+    c.rb_state = s.rb->save_state();
+  }
+  c.error_estimate = s.error_estimate->state();
+  write_checkpoint(s.spec.checkpoint_path, c);
+}
+
+// What the render loop runs, and its round target.
+void build_schedule(RenderState& s) {
+  const RenderSpec& o = s.spec;
+  s.pass = !s.pt.empty() ? static_cast<ProgressivePass*>(s.pt.front().get()) : s.rb.get();
+  s.rounds = o.mode == "rb" ? o.iterations : o.spp;
+  if (s.several_devices()) {
+    std::vector<DeviceLane> lanes;
+    for (std::size_t i = 0; i < s.devices.size(); ++i) {
+      DeviceLane lane;
+      lane.device_index = s.devices[i]->context.info.index;
+      lane.device_name = s.devices[i]->context.info.device_name;
+      for (std::size_t k = 0; k < s.roles.pt.size(); ++k)
+        if (s.roles.pt[k] == i) {
+          lane.pt = s.pt[k].get();
+          lane.accum = s.pt_pass_accums[k];
+        }
+      if (s.rb && s.roles.rb == i && !lane.pt) {
+        lane.rb = s.rb.get();
+        lane.accum = s.rb_pass_accum;
+      }
+      if (lane.pt || lane.rb) lanes.push_back(lane);
+    }
+    auto parallel = std::make_unique<ParallelPass>(std::move(lanes), s.shape, s.pt_accum, s.rb_accum);
+    s.lanes = parallel.get();
+    s.pass = parallel.get();
+    s.schedule = std::move(parallel);
+  } else if (s.shape) {
+    s.schedule = std::make_unique<CombinedPass>(*s.pt.front(), *s.rb, *s.shape);
+    s.pass = s.schedule.get();
+  }
+  if (s.shape) {
+    s.rounds = o.spp ? (o.spp + s.shape->pt_samples - 1) / s.shape->pt_samples
+                     : (o.iterations + s.shape->rb_iterations - 1) / s.shape->rb_iterations;
+  }
+}
+
+std::string device_description(const RenderState& s) {
+  std::string out;
+  for (const auto& d : s.devices) out += (out.empty() ? "" : " + ") + d->context.description();
+  return out;
+}
+
+void render_rounds(RenderState& s, RenderObserver& observer) {
+  const RenderSpec& o = s.spec;
+  std::uint64_t saved_rounds = s.first_round;
+  double last_save = 0.0;
+  observer.started();
+  observer.note(printf_text("rendering %s (%dx%d, %s%s, %zu triangles, %u patches) on %s", o.scene.c_str(),
+                            s.scene.width, s.scene.height, o.mode.c_str(),
+                            s.shape ? (", weights " + o.weights).c_str() : "", s.scene.scene.triangles.size(),
+                            s.scene.patches.patch_count, device_description(s).c_str()));
+  for (std::size_t i : s.roles.idle)
+    observer.note("warning: --mode " + o.mode + " runs on one device: " + s.devices[i]->context.info.device_name +
+                  " stays idle");
+  const double pixels = double(s.scene.width) * s.scene.height;
+  const bool counts_iterations = o.mode == "rb" || (s.shape && s.shape->pt_samples == 0);
+  const double samples_per_round = counts_iterations ? (s.shape ? s.shape->rb_iterations : 1.0)
+                                                     : (s.shape ? s.shape->pt_samples * pixels : pixels);
+  RenderBudget budget{s.rounds, o.seconds, {}};
+  // --target-error: done once enough batches say the relMSE is at most X (checked after each batch).
+  if (o.target_error > 0.0)
+    budget.target_reached = [&] {
+      return s.error_estimate->batches() >= kMinBatchesForTarget && s.estimated_rel_mse <= o.target_error;
+    };
+  s.outcome = run_progressive(
+      *s.pass, budget, observer.stop_requested(),
+      [&](const RenderProgress& p) {
+        double secs = std::max(p.elapsed_seconds, 1e-9);
+        s.error_estimate->add(p.rounds_done, s.round_sums);
+        s.estimated_rel_mse = s.error_estimate->estimated_rel_mse(s.round_sums);
+        RenderProgressReport report;
+        report.fraction = p.fraction;
+        if (o.target_error > 0.0 && std::isfinite(s.estimated_rel_mse) && p.rounds_done > s.first_round) {
+          // relMSE ∝ 1/N: X is reached after N·relMSE/X rounds, at this run's seconds per round.
+          const double rounds_needed = double(p.rounds_done) * s.estimated_rel_mse / o.target_error;
+          const double seconds_per_round = p.elapsed_seconds / double(p.rounds_done - s.first_round);
+          double eta = std::max(0.0, rounds_needed - double(p.rounds_done)) * seconds_per_round;
+          if (o.seconds > 0.0) eta = std::min(eta, std::max(0.0, o.seconds - p.elapsed_seconds));
+          report.eta_seconds = eta;
+          report.fraction = std::max(report.fraction, std::min(1.0, o.target_error / s.estimated_rel_mse));
+        }
+        report.rate = double(p.rounds_done - s.first_round) * samples_per_round / secs;
+        report.mrays_per_second = double(p.rays) / secs * 1e-6;
+        report.elapsed_seconds = p.elapsed_seconds;
+        report.rate_unit = counts_iterations ? "iterations/s" : "samples/s";
+        report.estimated_rel_mse = s.estimated_rel_mse;
+        observer.progress(report);
+        if (!o.checkpoint_path.empty() && p.elapsed_seconds - last_save >= o.checkpoint_every) {
+          save_checkpoint(s, p.rounds_done, p.elapsed_seconds);
+          saved_rounds = p.rounds_done;
+          last_save = p.elapsed_seconds;
+        }
+      },
+      s.first_round);
+  observer.finished();
+  // After a device failed its passes are past the rounds the accumulators hold: the checkpoint keeps
+  // its last save.
+  if (!s.outcome.failure.empty()) return;
+  if (!o.checkpoint_path.empty() && (saved_rounds != s.outcome.rounds || o.resume_path.empty()))
+    save_checkpoint(s, s.outcome.rounds, s.outcome.seconds);
+}
+
+// Samples and iterations of the whole render, and each device's part of it.
+void count_work(RenderState& s, RenderResult& r) {
+  const std::uint64_t rounds = s.outcome.rounds;
+  r.pt_samples = s.shape ? rounds * s.shape->pt_samples : (!s.pt.empty() ? rounds : 0);
+  r.rb_iterations = s.shape ? rounds * s.shape->rb_iterations : (s.rb ? rounds : 0);
+  r.device_failure = s.outcome.failure;
+  if (!s.lanes) {  // one device: all of it (a resumed render's earlier runs too)
+    const DeviceInfo& info = s.devices.front()->context.info;
+    r.devices.push_back(DeviceWorkReport{info.index, info.device_name, r.pt_samples, r.rb_iterations, s.outcome.seconds});
+    return;
+  }
+  for (const auto& device : s.devices) {  // in --device's order; an idle one did nothing
+    const DeviceInfo& info = device->context.info;
+    DeviceWorkReport report{info.index, info.device_name, 0, 0, 0.0};
+    for (const DeviceLane& lane : s.lanes->lanes())
+      if (lane.device_index == info.index)
+        report = DeviceWorkReport{info.index, lane.device_name, lane.pt_samples, lane.rb_iterations, lane.busy_seconds};
+    r.devices.push_back(report);
+  }
+}
+
+}  // namespace
+
+RenderJob::RenderJob(const RenderSpec& spec) : spec_(spec) {}
+RenderJob::~RenderJob() = default;
+
+RenderResult RenderJob::run(RenderObserver& observer) {
+  RenderState s(spec_);
+  s.scene = prepare_scene(spec_, [&](const std::string& line) { observer.note(line); });
+  choose_round(s);
+  open_devices(s);
+  build_passes(s);
+  if (!spec_.resume_path.empty()) s.resumed = read_checkpoint(spec_.resume_path);
+  choose_auto_settings(s, observer);
+  resume(s);
+  start_error_estimate(s);
+  build_schedule(s);
+  render_rounds(s, observer);
+
+  RenderResult r;
+  r.outcome = s.outcome;
+  r.width = s.scene.width;
+  r.height = s.scene.height;
+  r.combined = s.shape.has_value();
+  r.mrays_per_second = s.outcome.seconds > 0 ? double(s.outcome.rays) / s.outcome.seconds * 1e-6 : 0.0;
+  r.estimated_rel_mse = s.estimated_rel_mse;
+  r.error_batches = s.error_estimate->batches();
+  r.error_batch_rounds = s.error_estimate->batch_rounds();
+  count_work(s, r);
+  RenderLayers layers = make_layers(s);
+  write_images(s, layers, r);
+  r.reference_metrics = compare_layers(s, layers);
+  r.stats = render_stats(s, r);
+  if (!spec_.stats_path.empty()) write_json_file(spec_.stats_path, r.stats);
+  r.layers = std::move(layers.images);
+  return r;
+}
+
+}  // namespace bp

@@ -1,0 +1,86 @@
+// One render as an object (DESIGN.md §8, §10): built from a RenderSpec -- scene, devices, passes,
+// budget, outputs -- and run with an observer that hears its notes and progress and can stop it.
+// The CLI, MPI ranks and walkthrough views drive renders through this; none of them wires passes.
+#pragma once
+#include "image/image.h"
+#include "passes/render_loop.h"
+#include "render/render_spec.h"
+
+#include <nlohmann/json.hpp>
+
+#include <atomic>
+#include <cmath>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace bp {
+
+// What a progress line shows, after each batch.
+struct RenderProgressReport {
+  double fraction = 0.0;           // of the budget (rounds, time or --target-error)
+  double rate = 0.0;               // samples (or iterations) per second in this run
+  const char* rate_unit = "samples/s";
+  double mrays_per_second = 0.0;
+  double elapsed_seconds = 0.0;
+  double estimated_rel_mse = NAN;  // NaN before two error-estimate batches
+  double eta_seconds = NAN;        // NaN: from the fraction
+};
+
+class RenderObserver {
+ public:
+  virtual ~RenderObserver() = default;
+  // A line for the person running it (warnings, the choices --ratio auto and --eye-direct auto made).
+  virtual void note(const std::string& line) { (void)line; }
+  // Everything is built and the first counted round is next.
+  virtual void started() {}
+  virtual void progress(const RenderProgressReport& report) { (void)report; }
+  // The last round is done; the files are written next.
+  virtual void finished() {}
+  // Read between batches: once true, the render stops after the current batch.
+  virtual const std::atomic<bool>& stop_requested() = 0;
+};
+
+// One device's part of the render (the stats' "devices").
+struct DeviceWorkReport {
+  int index = 0;                                    // as `bundlepath devices` lists it
+  std::string name;
+  std::uint64_t pt_samples = 0, rb_iterations = 0;  // samples per pixel / iterations it rendered
+  double busy_seconds = 0.0;                        // time its passes ran
+};
+
+struct RenderResult {
+  RenderOutcome outcome;
+  int width = 0, height = 0;
+  std::uint64_t pt_samples = 0, rb_iterations = 0;  // over the whole render (resumed ones included)
+  bool combined = false;                            // PT and RB together (--mode combined)
+  double mrays_per_second = 0.0;
+  std::string exr_path, png_path;
+  std::vector<std::pair<std::string, ErrorMetrics>> reference_metrics;  // per layer, with --reference
+  double estimated_rel_mse = NAN;
+  std::uint64_t error_batches = 0, error_batch_rounds = 0;
+  std::vector<DeviceWorkReport> devices;
+  // The image's layers as written ("" the combined image; render_outputs.h), and the stats (written
+  // to --stats when given).
+  std::vector<std::pair<std::string, ImageRGB>> layers;
+  nlohmann::json stats;
+  std::string device_failure;  // empty, or which device failed mid-render and why (the image is what was done)
+};
+
+class RenderJob {
+ public:
+  explicit RenderJob(const RenderSpec& spec);
+  ~RenderJob();
+  RenderJob(const RenderJob&) = delete;
+  RenderJob& operator=(const RenderJob&) = delete;
+
+  // Loads, builds, renders and writes the outputs (image files, stats, checkpoint). Throws
+  // UsageError for a spec that cannot make this render, SceneError, DeviceError, std::runtime_error.
+  RenderResult run(RenderObserver& observer);
+
+ private:
+  RenderSpec spec_;
+};
+
+}  // namespace bp

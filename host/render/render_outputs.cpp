@@ -1,0 +1,75 @@
+#include "render/render_outputs.h"
+
+#include "image/contact_sheet.h"
+#include "render/render_state.h"
+
+#include <filesystem>
+
+namespace bp {
+namespace {
+ImageRGB sum_images(const ImageRGB& a, const ImageRGB& b) {
+  ImageRGB out = a;
+  for (std::size_t i = 0; i < out.rgb.size(); ++i) out.rgb[i] += b.rgb[i];
+  return out;
+}
+}  // namespace
+
+const ImageRGB* RenderLayers::find(const std::string& name) const {
+  for (const auto& [n, img] : images)
+    if (n == name) return &img;
+  return nullptr;
+}
+
+RenderLayers make_layers(const RenderState& s) {
+  const int width = s.scene.width, height = s.scene.height;
+  const bool pt = !s.pt.empty();
+  RenderLayers layers;
+  ImageRGB pt_image = pt ? s.pt_accum.mean() : ImageRGB(width, height);
+  ImageRGB rb_image = s.rb ? s.rb_accum.mean() : ImageRGB(width, height);
+  layers.images.emplace_back("", sum_images(pt_image, rb_image));
+  if (s.shape) {
+    layers.images.emplace_back("pt", pt_image);
+    layers.images.emplace_back("rb", rb_image);
+  }
+  if (s.spec.all_layers) {
+    if (pt) layers.images.emplace_back("pt_raw", s.pt_accum.raw_mean());
+    if (s.rb) layers.images.emplace_back("rb_raw", s.rb_accum.raw_mean());
+  }
+  return layers;
+}
+
+void write_images(const RenderState& s, const RenderLayers& layers, RenderResult& result) {
+  const RenderSpec& o = s.spec;
+  std::filesystem::path prefix(o.out_prefix);
+  if (prefix.has_parent_path()) std::filesystem::create_directories(prefix.parent_path());
+  result.exr_path = o.out_prefix + ".exr";
+  result.png_path = o.out_prefix + ".png";
+  std::vector<ImageLayer> exr_layers;
+  for (const auto& [name, img] : layers.images) exr_layers.push_back({name, &img});
+  // Each pixel's standard error of the combined image (DESIGN.md §9), beside the layers.
+  const ImageRGB standard_error = s.error_estimate->standard_error();
+  exr_layers.push_back({"stderr", &standard_error});
+  write_exr(result.exr_path, exr_layers);
+  write_png(result.png_path, layers.images.front().second, o.exposure);
+  if (!o.contact_sheet_path.empty()) {
+    const ImageRGB* reference = s.scene.reference ? &*s.scene.reference : nullptr;
+    write_contact_sheet(o.contact_sheet_path,
+                        {{"non-weighted PT", layers.find("pt_raw")},
+                         {"weighted PT", s.shape ? layers.find("pt") : nullptr},
+                         {"combined", &layers.images.front().second},
+                         {"non-weighted RB", layers.find("rb_raw")},
+                         {"weighted RB", s.shape ? layers.find("rb") : nullptr},
+                         {"reference", reference}},
+                        o.exposure);
+  }
+}
+
+std::vector<std::pair<std::string, ErrorMetrics>> compare_layers(const RenderState& s, const RenderLayers& layers) {
+  std::vector<std::pair<std::string, ErrorMetrics>> out;
+  if (!s.scene.reference) return out;
+  for (const auto& [name, img] : layers.images)
+    out.emplace_back(name.empty() ? "combined" : name, compare_images(img, *s.scene.reference));
+  return out;
+}
+
+}  // namespace bp

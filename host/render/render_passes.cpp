@@ -1,0 +1,219 @@
+// The passes of a render on their devices, and the choices --ratio auto and --eye-direct auto make.
+#include "render/render_passes.h"
+
+#include "device/kernel_features.h"
+#include "render/checkpoint_key.h"
+#include "render/parallel_pass.h"
+
+namespace bp {
+namespace {
+
+std::uint32_t weight_mode_of(const RenderSpec& o) {
+  if (o.mode != "combined" || o.weights == "none") return BP_WEIGHTS_NONE;
+  return o.weights == "paper" ? BP_WEIGHTS_PAPER : BP_WEIGHTS_PRODUCT;
+}
+
+std::uint32_t beta_heuristic_of(const RenderSpec& o) {
+  return o.beta == "balance" ? BP_BETA_BALANCE : BP_BETA_CLAMPED;
+}
+
+std::string ratio_text(const RoundShape& shape) {
+  return shape.rb_iterations == 1 ? std::to_string(shape.pt_samples) : "1/" + std::to_string(shape.rb_iterations);
+}
+
+}  // namespace
+
+// The round shape and the weights both passes use; --ratio 0 (no PT samples) runs RB unweighted.
+void choose_round(RenderState& s) {
+  const RenderSpec& o = s.spec;
+  s.use_pt = o.mode != "rb";
+  s.use_rb = o.mode != "pt";
+  if (o.mode == "combined") {
+    try {
+      s.shape = round_shape(ratio_is_auto(o) ? 0.25 : o.ratio);  // auto: replaced by the probe's choice
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(e.what());
+    }
+  }
+  const CombinedWeights weights = s.shape ? combined_weights(weight_mode_of(o), *s.shape) : CombinedWeights{};
+  s.weight_mode = weights.mode;
+  s.ratio_n2_over_n1 = weights.ratio_n2_over_n1;
+}
+
+// The devices --device names, each with the scene; the light tree's receivers must fit each of them.
+void open_devices(RenderState& s) {
+  const RenderSpec& o = s.spec;
+  const std::vector<DeviceInfo> infos = select_devices(o.device);
+  s.roles = assign_device_roles(o.mode, infos.size());
+  // The light tree and its per-patch receivers only where light sampling acts (power needs neither).
+  const bool light_tree = light_sampling_applies(o) && o.light_selection == "tree";
+  // One receiver per patch: refused before anything is built when it cannot fit a device.
+  const std::size_t receiver_bytes = light_tree ? s.scene.patches.patch_count * sizeof(LightReceiver) : 0;
+  for (const DeviceInfo& info : infos)
+    if (receiver_bytes > info.max_alloc_bytes || receiver_bytes > info.global_memory_bytes / 4)
+      throw UsageError("the light tree needs " + std::to_string(receiver_bytes >> 20) + " MiB for its " +
+                       std::to_string(s.scene.patches.patch_count) + " receiving patches, more than " +
+                       info.device_name + " offers (at most " + std::to_string(info.max_alloc_bytes >> 20) +
+                       " MiB per buffer): raise --patch-size or use --light-selection power");
+  for (const DeviceInfo& info : infos)
+    s.devices.push_back(std::make_unique<RenderDevice>(info, s.scene,
+                                                       light_tree ? BP_LIGHT_SELECTION_TREE : BP_LIGHT_SELECTION_POWER));
+}
+
+// Where a pass adds its estimates: the render's accumulator on one device, its own on several.
+static Accumulator& pass_accumulator(RenderState& s, Accumulator& render_accum) {
+  if (!s.several_devices()) return render_accum;
+  return s.lane_accums.emplace_back(render_accum.width, render_accum.height, render_accum.keeps_raw());
+}
+
+static void build_rb_pass(RenderState& s, Accumulator& accum) {
+  s.rb = std::make_unique<RayBundlePass>(s.rb_device().context, s.rb_device().scene, *s.geometry, s.camera,
+                                         s.rb_settings, accum);
+}
+
+void build_passes(RenderState& s) {
+  const RenderSpec& o = s.spec;
+  const Scene& scene = s.scene.scene;
+  const DeviceScene& first_scene = s.devices.front()->scene;
+  const int width = s.scene.width, height = s.scene.height;
+  s.camera = pack_camera(scene.camera, width, height);
+  s.light_sampling = light_sampling_applies(o) && first_scene.light_count > 0;
+  s.light_rate = o.light_rate > 0.0f ? o.light_rate
+                                     : default_light_rate(s.scene.patches.patch_count, std::size_t(width) * height);
+  s.kernel_options = o.generic_kernels ? "" : kernel_options(features_for(scene, s.light_sampling));
+  // Both passes or neither: the split is exact only when PT and RB weight the eye vertex alike.
+  // --eye-direct auto builds them shared (RB's chains are a superset) and decides later.
+  const bool eye_direct_auto = s.light_sampling && s.use_pt && s.use_rb && o.eye_direct == "auto";
+  s.eye_direct_shared = s.light_sampling && (o.eye_direct == "shared" || eye_direct_auto);
+  s.pt_accum = Accumulator(width, height, o.all_layers);
+  s.rb_accum = Accumulator(width, height, o.all_layers);
+
+  if (s.use_pt) {
+    PathTracerSettings& settings = s.pt_settings;
+    settings.seed = o.seed;
+    settings.max_depth = o.max_depth;
+    settings.weight_mode = s.weight_mode;
+    settings.weight_ratio = s.ratio_n2_over_n1;
+    settings.beta_heuristic = beta_heuristic_of(o);
+    settings.rb_light_rate = s.light_rate;
+    settings.light_sampling = s.light_sampling;
+    settings.eye_direct_shared = s.eye_direct_shared;
+    settings.kernel_options = s.kernel_options;
+    for (std::size_t k = 0; k < s.roles.pt.size(); ++k) {
+      s.pt_pass_accums.push_back(&pass_accumulator(s, s.pt_accum));
+      s.pt.push_back(std::make_unique<PathTracerPass>(s.pt_device(k).context, s.pt_device(k).scene, s.camera,
+                                                      settings, *s.pt_pass_accums.back()));
+    }
+  }
+  if (s.use_rb) {
+    const BundleSize size = bundle_size(scene, s.scene.patches);
+    RayBundleSettings& rb = s.rb_settings;
+    rb.seed = o.seed;
+    rb.bins = o.bins ? o.bins : default_bins(size);
+    if (o.contact_depth >= 0.0f) rb.contact_depth_fraction = o.contact_depth;
+    rb.warmup = o.warmup;
+    rb.gouraud = o.gouraud;
+    rb.light_sampling = s.light_sampling;
+    rb.eye_direct_shared = s.eye_direct_shared;
+    rb.kernel_options = s.kernel_options;
+    rb.weight_mode = s.weight_mode;
+    rb.weight_ratio = s.ratio_n2_over_n1;
+    rb.beta_heuristic = beta_heuristic_of(o);
+    rb.light_rate = s.light_rate;
+    rb.keep_raw = o.all_layers;
+    try {
+      check_bundle_memory(s.rb_device().context.info, size, rb.bins, std::size_t(width) * height, bundle_chains(rb),
+                          scene.has_shading_normals());
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(e.what());
+    }
+    s.geometry = build_bundle_geometry(scene, s.scene.patches);
+    s.rb_pass_accum = &pass_accumulator(s, s.rb_accum);
+    build_rb_pass(s, *s.rb_pass_accum);
+  }
+}
+
+// PT timed on a pass of its own at a smaller size of the same view (passes/combined.h), on the first
+// PT device; RB on its own pass.
+static RatioProbe run_probe(RenderState& s, double pt_time_share) {
+  const RenderSpec& o = s.spec;
+  const ProbeImageSize size = probe_image_size(s.scene.width, s.scene.height);
+  Accumulator probe_accum(size.width, size.height, false);
+  PathTracerPass probe_pt(s.pt_device().context, s.pt_device().scene,
+                          pack_camera(s.scene.scene.camera, size.width, size.height), s.pt_settings, probe_accum);
+  return probe_ratio(probe_pt, std::size_t(s.scene.width) * s.scene.height, *s.rb, *s.rb_pass_accum,
+                     RatioProbeBudget{o.seconds, o.spp, o.iterations, pt_time_share});
+}
+
+// The probe's round: its time share's on one device; on several, where PT and RB run at the same
+// time, the round that keeps both busy (PT's time per sample shared by its devices).
+static void choose_probed_shape(RenderState& s) {
+  if (s.several_devices())
+    s.probe->chosen = concurrent_ratio_shape(s.probe->pt_seconds_per_spp / double(s.pt.size()),
+                                             s.probe->rb_seconds_per_iteration);
+  s.shape = s.probe->chosen;
+}
+
+// --ratio auto: the probe picks c (or a resumed render takes the checkpoint's); --eye-direct auto:
+// shared below kEyeDirectSharedBelowSpp PT samples per pixel, or what a resumed render was saved with.
+// Both passes get the chosen c's weights before the first counted sample.
+void choose_auto_settings(RenderState& s, RenderObserver& observer) {
+  const RenderSpec& o = s.spec;
+  if (ratio_is_auto(o)) {
+    if (s.resumed) {
+      if (std::optional<RoundShape> saved = round_of_key(s.resumed->options)) s.shape = *saved;
+    } else {
+      // The share for the eye-direct choice known now (auto counts as shared until it is resolved).
+      s.probe = run_probe(s, auto_ratio_pt_time_share(s.light_sampling && !s.eye_direct_shared));
+      choose_probed_shape(s);
+    }
+  }
+  const bool eye_direct_auto = s.light_sampling && s.use_pt && s.use_rb && o.eye_direct == "auto";
+  // Where it is pt, the ray-bundle pass is made again without the eye chain.
+  if (eye_direct_auto && !s.pt.empty() && s.rb && s.weight_mode == BP_WEIGHTS_PRODUCT) {
+    std::optional<bool> saved = s.resumed ? eye_direct_shared_of_key(s.resumed->options) : std::nullopt;
+    if (saved) {
+      s.eye_direct_shared = *saved;
+    } else {
+      // A --time budget needs the probe's costs: probed here when --ratio did not probe already.
+      double t_pt = s.probe ? s.probe->pt_seconds_per_spp : 0.0, t_rb = s.probe ? s.probe->rb_seconds_per_iteration : 0.0;
+      if (!s.probe && o.seconds > 0.0 && !o.spp && !o.iterations) {
+        const RatioProbe timing = run_probe(s, kAutoRatioPtTimeShareEyeShared);
+        t_pt = timing.pt_seconds_per_spp;
+        t_rb = timing.rb_seconds_per_iteration;
+      }
+      const double spp = expected_pt_spp(*s.shape, o.spp, o.iterations, o.seconds, t_pt, t_rb);
+      s.eye_direct_shared = spp < kEyeDirectSharedBelowSpp;
+      observer.note(printf_text("--eye-direct auto: %s (about %.0f PT samples per pixel)",
+                                s.eye_direct_shared ? "shared" : "pt", spp));
+    }
+    if (!s.eye_direct_shared && s.probe) {  // PT's alone: the ratio for that share (kAutoRatioPtTimeShareEyePt)
+      s.probe->pt_time_share = auto_ratio_pt_time_share(true);
+      s.probe->chosen =
+          auto_ratio_shape(s.probe->pt_seconds_per_spp, s.probe->rb_seconds_per_iteration, s.probe->pt_time_share);
+      choose_probed_shape(s);
+    }
+    if (!s.eye_direct_shared) {
+      for (auto& pt : s.pt) pt->set_eye_direct_shared(false);
+      s.rb_settings.eye_direct_shared = false;
+      build_rb_pass(s, *s.rb_pass_accum);
+    }
+  }
+  if (s.probe && s.several_devices())
+    observer.note(printf_text("--ratio auto: c = %s (PT %.4g s per sample per pixel over %zu device(s), RB %.4g s per "
+                              "iteration, at the same time: the round that keeps both busy; probe %.2f s)",
+                              ratio_text(*s.shape).c_str(), s.probe->pt_seconds_per_spp / double(s.pt.size()),
+                              s.pt.size(), s.probe->rb_seconds_per_iteration, s.probe->probe_seconds));
+  else if (s.probe)
+    observer.note(printf_text("--ratio auto: c = %s (PT %.4g s per sample per pixel, RB %.4g s per iteration, PT "
+                              "time share %.2f; probe %.2f s)",
+                              ratio_text(*s.shape).c_str(), s.probe->pt_seconds_per_spp,
+                              s.probe->rb_seconds_per_iteration, s.probe->pt_time_share, s.probe->probe_seconds));
+  if (ratio_is_auto(o)) {
+    s.ratio_n2_over_n1 = combined_weights(s.weight_mode, *s.shape).ratio_n2_over_n1;
+    for (auto& pt : s.pt) pt->set_weight_ratio(s.ratio_n2_over_n1);
+    s.rb->set_weight_ratio(s.ratio_n2_over_n1);
+  }
+}
+
+}  // namespace bp

@@ -1,0 +1,56 @@
+#include "render/render_scene.h"
+
+#include "scene/gltf_loader.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+namespace bp {
+namespace {
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+}  // namespace
+
+RenderScene prepare_scene(const RenderSpec& o, const std::function<void(const std::string&)>& note) {
+  using clock = std::chrono::steady_clock;
+  RenderScene s;
+  if (!o.reference_path.empty()) s.reference = read_exr(o.reference_path);
+
+  auto t_load = clock::now();
+  s.scene = load_gltf(o.scene);
+  Scene& scene = s.scene;
+  scene.environment = glm::vec3(o.environment[0], o.environment[1], o.environment[2]);
+  for (const std::string& w : scene.warnings)
+    if (!(scene.has_environment() && w.rfind("no emitter", 0) == 0))  // the environment lights it
+      note("warning: " + o.scene + ": " + w);
+  if (!scene.lights.empty() && !light_sampling_applies(o))
+    note("warning: " + o.scene + ": " + std::to_string(scene.lights.size()) +
+         " point/spot/directional light(s) are reached by light sampling only, which this run does not use "
+         "(--mode pt or --mode combined with product weights, without --no-light-sampling): they stay dark");
+  s.load_seconds = seconds_since(t_load);
+
+  s.width = o.width;
+  s.height = o.height;
+  if (s.height == 0)
+    s.height = scene.camera.aspect > 0.0f ? std::max(1, int(std::lround(s.width / scene.camera.aspect))) : s.width;
+  if (s.reference && (s.reference->width != s.width || s.reference->height != s.height))
+    throw UsageError("--reference " + o.reference_path + " is " + std::to_string(s.reference->width) + "x" +
+                     std::to_string(s.reference->height) + " but the render is " + std::to_string(s.width) + "x" +
+                     std::to_string(s.height) + " (set --width/--height to match)");
+
+  s.patch_size = o.patch_size > 0.0f ? o.patch_size : default_patch_size(scene);
+  try {
+    s.patches = build_patch_layout(scene, s.patch_size);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
+  auto t_bvh = clock::now();
+  s.bvh = build_bvh(scene.triangles);
+  s.bvh_seconds = seconds_since(t_bvh);
+  return s;
+}
+
+}  // namespace bp

@@ -1,0 +1,85 @@
+// The objects of one render, shared by the engine's stages (render_job.cpp builds and runs them;
+// render_outputs.cpp and render_stats.cpp read them). Internal to host/render/.
+#pragma once
+#include "image/accumulator.h"
+#include "image/error_estimate.h"
+#include "passes/checkpoint.h"
+#include "passes/combined.h"
+#include "passes/path_tracer.h"
+#include "passes/ray_bundles.h"
+#include "passes/render_loop.h"
+#include "render/parallel_pass.h"
+#include "render/render_devices.h"
+#include "render/render_job.h"
+#include "render/render_scene.h"
+#include "scene/bundle_geometry.h"
+
+#include <cstdio>
+#include <deque>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace bp {
+
+struct RenderState {
+  explicit RenderState(const RenderSpec& s) : spec(s) {}
+  const RenderSpec& spec;
+  RenderScene scene;
+
+  std::vector<std::unique_ptr<RenderDevice>> devices;
+  DeviceRoles roles;
+  bool use_pt = false, use_rb = false;
+  std::optional<RoundShape> shape;  // --mode combined's round
+  std::uint32_t weight_mode = 0;
+  float ratio_n2_over_n1 = 1.0f;
+  CameraParams camera{};
+  bool light_sampling = false;
+  float light_rate = 1.0f;
+  std::string kernel_options;
+  bool eye_direct_shared = false;
+
+  // The render's accumulators: what checkpoints, the error estimate and the image files read.
+  Accumulator pt_accum, rb_accum;
+  // Several devices: each pass adds into an accumulator of its own, merged into the render's after
+  // every batch (render/parallel_pass.h).
+  std::deque<Accumulator> lane_accums;
+  std::vector<Accumulator*> pt_pass_accums;  // what each PT pass adds into
+  Accumulator* rb_pass_accum = nullptr;      // what the ray-bundle pass adds into
+  PathTracerSettings pt_settings;
+  std::vector<std::unique_ptr<PathTracerPass>> pt;  // one per PT device (roles.pt), in that order
+  std::unique_ptr<RayBundlePass> rb;
+  std::optional<BundleGeometry> geometry;
+  RayBundleSettings rb_settings;
+  std::optional<RatioProbe> probe;
+
+  std::optional<Checkpoint> resumed;
+  std::uint64_t first_round = 0;
+  double earlier_seconds = 0.0;
+  std::string key;  // the checkpoint key
+
+  RoundSums round_sums;
+  std::optional<BatchMeansErrorEstimate> error_estimate;
+  double estimated_rel_mse = NAN;
+
+  std::unique_ptr<ProgressivePass> schedule;  // the combination or the devices' lanes, when there is one
+  ParallelPass* lanes = nullptr;              // the schedule, on several devices
+  ProgressivePass* pass = nullptr;            // what the render loop runs
+  std::uint64_t rounds = 0;                   // the round target (0: none)
+  RenderOutcome outcome;
+
+  RenderDevice& pt_device(std::size_t k = 0) { return *devices[roles.pt[k]]; }
+  RenderDevice& rb_device() { return *devices[roles.rb]; }
+  bool several_devices() const { return devices.size() > 1; }
+};
+
+// printf into a std::string, for the observer's notes.
+template <class... Args>
+std::string printf_text(const char* format, Args... args) {
+  char buf[512];
+  std::snprintf(buf, sizeof buf, format, args...);
+  return buf;
+}
+
+}  // namespace bp

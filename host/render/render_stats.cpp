@@ -1,0 +1,154 @@
+#include "render/render_stats.h"
+
+#include "render/render_state.h"
+
+#include <map>
+
+namespace bp {
+namespace {
+
+// Every estimator pass of the render (on every device), for build times and launch totals.
+std::vector<const ProgressivePass*> estimator_passes(const RenderState& s) {
+  std::vector<const ProgressivePass*> out;
+  for (const auto& pt : s.pt) out.push_back(pt.get());
+  if (s.rb) out.push_back(s.rb.get());
+  return out;
+}
+
+void add_pass_stats(const RenderState& s, nlohmann::json& stats) {
+  double build_seconds = 0.0;
+  bool from_cache = true;
+  std::map<std::string, LaunchTotals> launches;  // summed over the devices that ran the same kernel
+  for (const ProgressivePass* part : estimator_passes(s)) {
+    build_seconds += part->program().build_seconds;
+    from_cache = from_cache && part->program().from_cache;
+    for (const auto& [name, t] : part->launcher().totals()) {
+      launches[name].launches += t.launches;
+      launches[name].device_seconds += t.device_seconds;
+    }
+  }
+  for (const auto& [name, t] : launches)
+    stats["launches"][name] = {{"count", t.launches}, {"device_seconds", t.device_seconds}};
+  stats["kernel_build_seconds"] = build_seconds;
+  stats["kernel_from_cache"] = from_cache;
+}
+
+void add_combination_stats(const RenderState& s, nlohmann::json& stats) {
+  const RenderSpec& o = s.spec;
+  const RoundShape& shape = *s.shape;
+  stats["weights"] = o.weights;
+  if (s.weight_mode == BP_WEIGHTS_PRODUCT) stats["beta"] = o.beta;
+  if (s.light_sampling && s.rb) stats["rb_light_rate"] = s.light_rate;
+  if (s.light_sampling && s.rb) stats["eye_direct"] = s.eye_direct_shared ? "shared" : "pt";
+  stats["ratio"] = shape.ratio();
+  if (s.probe) {
+    const RatioProbe& probe = *s.probe;
+    stats["ratio_auto"] = {{"chosen", shape.ratio()},
+                           {"pt_seconds_per_spp", probe.pt_seconds_per_spp},
+                           {"rb_seconds_per_iteration", probe.rb_seconds_per_iteration},
+                           {"pt_time_share", probe.pt_time_share},
+                           {"probe_pt_samples", probe.pt_samples},
+                           {"probe_pt_size", std::to_string(probe.pt_image.width) + "x" +
+                                                 std::to_string(probe.pt_image.height)},
+                           {"probe_rb_iterations", probe.rb_iterations},
+                           {"probe_seconds", probe.probe_seconds},
+                           {"probe_first_launch_seconds", probe.first_launch_seconds},
+                           {"rule", s.several_devices() ? "concurrent" : "time_share"}};
+  } else if (ratio_is_auto(o)) {
+    stats["ratio_auto"] = {{"chosen", shape.ratio()}, {"from_checkpoint", true}};
+  }
+  stats["rounds"] = s.outcome.rounds;
+}
+
+void add_ray_bundle_stats(const RenderState& s, const RenderResult& r, nlohmann::json& stats) {
+  const RenderSpec& o = s.spec;
+  const RenderOutcome& outcome = s.outcome;
+  const Scene& scene = s.scene.scene;
+  const double iterations = double(r.rb_iterations) + o.warmup;
+  const std::size_t pixels = std::size_t(s.scene.width) * s.scene.height;
+  stats["iterations"] = r.rb_iterations;
+  stats["warmup_iterations"] = o.warmup;
+  stats["bins"] = s.rb->bins();
+  stats["contact_depth"] = s.rb_settings.contact_depth_fraction;
+  stats["elements"] = s.geometry->elements.size();
+  stats["fragments_per_iteration"] = iterations > 0 ? double(outcome.fragments) / iterations : 0.0;
+  stats["ms_per_iteration"] = r.rb_iterations && !s.shape ? outcome.seconds * 1e3 / iterations : 0.0;
+  stats["fragments_per_second"] = outcome.seconds > 0 ? double(outcome.fragments) / outcome.seconds : 0.0;
+  stats["rb_device_bytes_estimate"] =
+      estimate_bundle_memory(bundle_size(scene, s.scene.patches), s.rb->bins(), pixels, bundle_chains(s.rb_settings),
+                             scene.has_shading_normals());
+  stats["rb_chains"] = bundle_chains(s.rb_settings);
+}
+
+void add_error_estimate_stats(const RenderState& s, nlohmann::json& stats) {
+  const BatchMeansErrorEstimate& e = *s.error_estimate;
+  stats["estimated_rel_mse"] = s.estimated_rel_mse;  // NaN (null) before two batches
+  nlohmann::json levels = nlohmann::json::array();
+  for (int j = 0; j < e.levels(); ++j)
+    levels.push_back({{"batch_rounds", e.batch_rounds(j)},
+                      {"batches", e.batches(j)},
+                      {"estimated_rel_mse", e.estimated_rel_mse(s.round_sums, j)}});
+  stats["error_estimate"] = {{"batch_rounds", e.batch_rounds()}, {"batches", e.batches()}, {"levels", levels}};
+  if (s.rb) stats["error_estimate"]["rb_batch_iterations"] = e.batch_rounds() * (s.shape ? s.shape->rb_iterations : 1);
+}
+
+}  // namespace
+
+nlohmann::json render_stats(const RenderState& s, const RenderResult& r) {
+  const RenderSpec& o = s.spec;
+  const RenderOutcome& outcome = s.outcome;
+  const DeviceScene& device_scene = s.devices.front()->scene;
+  nlohmann::json stats;
+  stats["scene"] = o.scene;
+  std::string device;
+  for (const auto& d : s.devices) device += (device.empty() ? "" : " + ") + d->context.description();
+  stats["device"] = device;
+  stats["devices"] = nlohmann::json::array();
+  for (const DeviceWorkReport& d : r.devices)
+    stats["devices"].push_back({{"index", d.index},
+                                {"name", d.name},
+                                {"pt_samples", d.pt_samples},
+                                {"rb_iterations", d.rb_iterations},
+                                {"busy_seconds", d.busy_seconds}});
+  if (!r.device_failure.empty()) stats["device_failure"] = r.device_failure;
+  stats["mode"] = o.mode;
+  stats["width"] = s.scene.width;
+  stats["height"] = s.scene.height;
+  stats["spp"] = r.pt_samples;
+  stats["seed"] = o.seed;
+  stats["triangles"] = s.scene.scene.triangles.size();
+  stats["patches"] = s.scene.patches.patch_count;
+  stats["patch_size"] = s.scene.patch_size;
+  stats["scene_device_bytes"] = device_scene.bytes;  // BVH, shading, materials, lights, light tree, receivers
+  stats["load_seconds"] = s.scene.load_seconds;
+  stats["bvh_build_seconds"] = s.scene.bvh_seconds;
+  add_pass_stats(s, stats);
+  stats["render_seconds"] = outcome.seconds;
+  stats["rays"] = outcome.rays;
+  stats["mrays_per_second"] = r.mrays_per_second;
+  stats["nan_or_inf_samples"] = outcome.nonfinite_samples;
+  stats["interrupted"] = outcome.interrupted;
+  stats["light_sampling"] = s.light_sampling;
+  stats["kernel_options"] = s.kernel_options;
+  stats["lights"] = device_scene.light_count;
+  if (s.light_sampling) stats["light_selection"] = o.light_selection;
+  if (!o.resume_path.empty()) stats["resumed_from_rounds"] = s.first_round;
+  if (!o.checkpoint_path.empty()) stats["checkpoint"] = o.checkpoint_path;
+  if (s.shape) add_combination_stats(s, stats);
+  if (s.rb) add_ray_bundle_stats(s, r, stats);
+  if (!r.reference_metrics.empty()) {
+    nlohmann::json metrics;
+    for (const auto& [key, m] : r.reference_metrics)
+      metrics[key] = {{"rel_mse", m.rel_mse}, {"rmse", m.rmse}, {"mean_bias", m.mean_bias},
+                      {"relative_bias", m.reference_mean != 0.0 ? m.mean_bias / m.reference_mean : 0.0}};
+    stats["reference"] = {{"path", o.reference_path}, {"layers", metrics}};
+  }
+  add_error_estimate_stats(s, stats);
+  if (o.target_error > 0.0) {
+    stats["target_error"] = o.target_error;
+    stats["target_reached"] = outcome.target_reached;
+  }
+  return stats;
+}
+
+}  // namespace bp
