@@ -113,6 +113,10 @@ options (defaults in brackets):
   --patch-size M      target patch edge in metres              [scene diagonal / 20]
   --bins R            transillumination buffer R x R bins (rb) [an average patch covers 4 bins]
   --warmup N          ray-bundle iterations before the image starts (rb)  [16]
+  --rb-directions D   rb: the iterations' directions: stratified (blocks of 64 iterations, four
+                      interleaved sequences that each visit the 16 cells of the direction
+                      square once: any 4 consecutive directions stay independent) or independent
+                      (each drawn on its own, as in the paper)                [stratified]
   --contact-depth F   rb: surfaces closer than F times the scene's bounding diameter along a
                       bundle direction touch: they exchange nothing, and a patch's incoming
                       light is the mean over its uncovered part; 0 turns it off   [0.001]
@@ -158,6 +162,11 @@ RenderOptions parse_render_options(const std::vector<std::string>& args) {
       {"--bins", [&](auto& k, auto& v) { o.bins = parse_number<std::uint32_t>(k, v, 1, 16384, "an integer in 1..16384"); }},
       {"--contact-depth", [&](auto& k, auto& v) {
          o.contact_depth = parse_number<float>(k, v, 0.0f, 0.1f, "a fraction of the scene's diameter in [0, 0.1]");
+       }},
+      {"--rb-directions", [&](auto& k, auto& v) {
+         if (v != "stratified" && v != "independent")
+           throw UsageError(k + ": expected stratified or independent, got '" + v + "'");
+         o.rb_directions = v;
        }},
       {"--warmup", [&](auto& k, auto& v) {
          o.warmup = parse_number<std::uint32_t>(k, v, 0, 1u << 20, "an integer in 0..1048576");

@@ -1,5 +1,7 @@
 #include "passes/ray_bundles.h"
 
+#include "passes/bundle_directions.h"
+
 #include "kernels/shared/bundle_raster.h"
 #include "kernels/shared/frame.h"
 #include "kernels/shared/rng.h"
@@ -194,7 +196,11 @@ void RayBundlePass::ensure_fragment_capacity(std::size_t fragments) {
 BundleIteration RayBundlePass::iteration_params(std::uint64_t iteration) const {
   auto direction = [&](std::uint64_t i, float* rotation, float* ou, float* ov) {
     Rng rng = rng_init(settings_.seed, kDirectionStream, std::uint32_t(i));
-    float u1 = rng_uniform(&rng), u2 = rng_uniform(&rng);
+    UnitSquarePoint jitter;
+    jitter.u1 = rng_uniform(&rng);
+    jitter.u2 = rng_uniform(&rng);
+    const UnitSquarePoint p = bundle_direction_point(settings_.directions, settings_.seed, i, settings_.warmup, jitter);
+    const float u1 = p.u1, u2 = p.u2;
     if (rotation) *rotation = BP_TWO_PI * rng_uniform(&rng);
     if (ou) *ou = rng_uniform(&rng);
     if (ov) *ov = rng_uniform(&rng);

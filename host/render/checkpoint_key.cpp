@@ -19,7 +19,7 @@ std::string options_key(const RenderSpec& o, int width, int height, float patch_
   if (o.mode != "pt")
     key += ";bins=" + std::to_string(bins) + ";warmup=" + std::to_string(o.warmup) +
            (o.contact_depth >= 0.0f ? ";contact_depth=" + std::to_string(o.contact_depth) : "") +
-           ";shading=" + (o.gouraud ? "gouraud" : "flat");
+           ";shading=" + (o.gouraud ? "gouraud" : "flat") + ";directions=" + o.rb_directions;
   if (shape)
     key += ";weights=" + o.weights + ";beta=" + o.beta + ";light_rate=" + std::to_string(o.light_rate) +
            ";eye_direct=" + eye_direct +

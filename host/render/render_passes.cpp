@@ -112,6 +112,7 @@ void build_passes(RenderState& s) {
     rb.bins = o.bins ? o.bins : default_bins(size);
     if (o.contact_depth >= 0.0f) rb.contact_depth_fraction = o.contact_depth;
     rb.warmup = o.warmup;
+    rb.directions = o.rb_directions == "independent" ? DirectionSequence::independent : DirectionSequence::stratified;
     rb.gouraud = o.gouraud;
     rb.light_sampling = s.light_sampling;
     rb.eye_direct_shared = s.eye_direct_shared;

@@ -70,6 +70,7 @@ void add_ray_bundle_stats(const RenderState& s, const RenderResult& r, nlohmann:
   stats["warmup_iterations"] = o.warmup;
   stats["bins"] = s.rb->bins();
   stats["contact_depth"] = s.rb_settings.contact_depth_fraction;
+  stats["rb_directions"] = s.rb_settings.directions == DirectionSequence::independent ? "independent" : "stratified";
   stats["elements"] = s.geometry->elements.size();
   stats["fragments_per_iteration"] = iterations > 0 ? double(outcome.fragments) / iterations : 0.0;
   stats["ms_per_iteration"] = r.rb_iterations && !s.shape ? outcome.seconds * 1e3 / iterations : 0.0;
