@@ -12,11 +12,20 @@
 #include "shared/surface.h"
 #include "shared/weights.h"
 #include "shared/lights.h"
+#include "shared/textured.h"
 #include "scan.cl"
 
 #define BP_BACK_SIDE 0x80000000u
 #define BP_NO_SENDER (-3.0e38f)  // .w of radiance that came from no patch (below any ln P)
 #define BP_CONTACT (-3.2e38f)    // .w of a fragment covered by one it touches: it receives nothing, and is not counted
+
+// The material RB reflects and emits with on `patch` (a side of an element of `material`): with
+// textures its mean over the patch (host/scene/textures.h), which every weight input reads on both
+// sides; uv_slots 0: the scene has no textures.
+static __global const Material* rb_material(__global const Material* materials, __global const Material* patch_materials,
+                                            uint uv_slots, uint material, uint patch) {
+  return BP_FEATURE_TEXTURES && uv_slots > 0u && patch != BP_NO_PATCH ? &patch_materials[patch] : &materials[material];
+}
 
 // Normal of a patch (its element's normal, flipped for a back side).
 static float3 patch_normal(__global const BundleElement* elements, uint patch_element) {
@@ -91,12 +100,14 @@ __kernel void rb_outgoing(__global const BundleElement* elements, __global const
                           __global const Light* lights, __global const float* light_cdf, const uint light_seed,
                           const uint iteration, const float ray_epsilon, __global float4* eye_light,
                           __global const LightTreeNode* light_tree, __global const LightReceiver* light_receivers,
-                          const uint light_selection) {
+                          const uint light_selection, __global const Material* patch_materials, const uint uv_slots,
+                          __global const TextureView* texture_views, __global const uint* texels,
+                          __global const MaterialTextures* material_textures, __global const float* texcoords) {
   uint p = (uint)get_global_id(0);
   if (p >= patches) return;
   uint pe = patch_element[p];
   float3 n = patch_normal(elements, pe);
-  Bsdf bsdf = bsdf_from_material(&materials[elements[pe & ~BP_BACK_SIDE].material]);
+  Bsdf bsdf = bsdf_from_material(rb_material(materials, patch_materials, uv_slots, elements[pe & ~BP_BACK_SIDE].material, p));
   float3 wi = facing(n, bp_private3(it.omega_prev));
   float3 wo = facing(n, bp_private3(it.omega));
   BsdfValue v = bsdf_evaluate(&bsdf, n, wi, wo);
@@ -109,6 +120,8 @@ __kernel void rb_outgoing(__global const BundleElement* elements, __global const
   if (light_sampling) {
     Rng rng = rng_init(light_seed, p, iteration);
     LightSet light_set_ = light_set(lights, light_cdf, light_tree, light_receivers, it.light_count, light_selection);
+    const TextureSet textures = {texture_views, texels, material_textures, texcoords, uv_slots};
+    light_set_.textures = textures;  // emissive textures at the sampled point
     // a black patch reflects no light sample; the others take one at the rate it.light_rate
     if (bsdf.continuation > 0.0f && (it.light_rate >= 1.0f || rng_uniform(&rng) < it.light_rate))
       ls = rb_light_sample(&elements[pe & ~BP_BACK_SIDE], n, nodes, triangles, &light_set_, p, materials, &it, &rng,
@@ -232,16 +245,18 @@ static void sides_along(__global const BundleElement* e, float3 omega, uint* min
 // and the view-independent proxy stands in for PT's density.
 // The patches: the sender's emitting side, the receiver's receiving side (light selection's receiver).
 static float4 rb_direct_received(__global const BundleElement* elements, __global const Material* materials,
+                                 __global const Material* patch_materials, uint uv_slots,
                                  uint sender_element, uint receiver_element, float3 n_receiver, float3 travel,
                                  float distance, int eye_vertex, const BundleIteration* it, const LightSet* light_set,
                                  uint sender_patch, uint receiver_patch) {
   __global const BundleElement* se = &elements[sender_element];
-  __global const Material* sm = &materials[se->material];
+  __global const Material* sm = rb_material(materials, patch_materials, uv_slots, se->material, sender_patch);
   float3 le = bp_load3(sm->emission);
   if (le.x + le.y + le.z <= 0.0f) return (float4)(0.0f);
   float p_light = light_pdf_uv_area(light_pdf_area_from(light_set, materials, receiver_patch, sender_patch, se->material),
                                     distance, fabs(dot(bp_load3(se->normal), travel)));
-  Bsdf receiver = bsdf_from_material(&materials[elements[receiver_element].material]);
+  Bsdf receiver =
+      bsdf_from_material(rb_material(materials, patch_materials, uv_slots, elements[receiver_element].material, receiver_patch));
   float3 wi = facing(n_receiver, travel);
   float w;
   if (eye_vertex) {
@@ -261,12 +276,14 @@ static float4 rb_direct_received(__global const BundleElement* elements, __globa
 // sampling nothing (it leaves light straight from emitters to the direct chain); for the others the
 // radiance itself, with the paper's P = 1 of an emitter (.w = ln 1).
 static float4 rb_environment_received(__global const BundleElement* elements, __global const Material* materials,
+                                      __global const Material* patch_materials, uint uv_slots, uint receiver_patch,
                                       uint receiver_element, float3 n_receiver, float3 travel, uint c, uint direct,
                                       uint eye, int light_sampling, const BundleIteration* it) {
   float3 env = bp_private3(it->environment);
   if (c == 0u && light_sampling) return (float4)(0.0f, 0.0f, 0.0f, BP_NO_SENDER);
   if (c != direct && c != eye) return (float4)(env.x, env.y, env.z, 0.0f);
-  Bsdf receiver = bsdf_from_material(&materials[elements[receiver_element].material]);
+  Bsdf receiver =
+      bsdf_from_material(rb_material(materials, patch_materials, uv_slots, elements[receiver_element].material, receiver_patch));
   float3 wi = facing(n_receiver, travel);
   float w;
   if (c == eye) {
@@ -291,7 +308,8 @@ __kernel void rb_tile_resolve(__global const BundleElement* elements, __global c
                               const uint tiles, __global float4* received_minus, __global float4* received_plus,
                               __global ulong* fragment_total, __global const Light* lights,
                               __global const float* light_cdf, __global const LightTreeNode* light_tree,
-                              __global const LightReceiver* light_receivers, const uint light_selection) {
+                              __global const LightReceiver* light_receivers, const uint light_selection,
+                              __global const Material* patch_materials, const uint uv_slots) {
   uint tile = (uint)get_global_id(0);
   if (tile == 0u) *fragment_total += tile_start[tiles];  // for the statistics, read back with the image sums
   if (tile >= tiles) return;
@@ -338,10 +356,12 @@ __kernel void rb_tile_resolve(__global const BundleElement* elements, __global c
         if (touches_sender)
           r.w = BP_CONTACT;
         else if (environment && a == first)  // nothing in front along -omega: the environment
-          r = rb_environment_received(elements, materials, element, facing(-omega, n), omega, c, direct, eye,
+          r = rb_environment_received(elements, materials, patch_materials, uv_slots, minus_patch, element,
+                                      facing(-omega, n), omega, c, direct, eye,
                                       light_sampling, &it);
         else if (sender != BP_NO_PATCH && (c == direct || c == eye) && minus_patch != BP_NO_PATCH)
-          r = rb_direct_received(elements, materials, sender_element, element, facing(-omega, n), omega,
+          r = rb_direct_received(elements, materials, patch_materials, uv_slots, sender_element, element,
+                                 facing(-omega, n), omega,
                                  depth - sender_depth, c == eye, &it, &light_set_, sender, minus_patch);
         else if (sender != BP_NO_PATCH && c != direct && c != eye)
           r = l_out[sender * chains + c];
@@ -366,10 +386,12 @@ __kernel void rb_tile_resolve(__global const BundleElement* elements, __global c
         if (touches_next)
           r.w = BP_CONTACT;
         else if (environment && a + 1 == last)  // nothing in front along +omega: the environment
-          r = rb_environment_received(elements, materials, element, facing(omega, n), -omega, c, direct, eye,
+          r = rb_environment_received(elements, materials, patch_materials, uv_slots, own_plus, element,
+                                      facing(omega, n), -omega, c, direct, eye,
                                       light_sampling, &it);
         else if (next_minus != BP_NO_PATCH && (c == direct || c == eye) && own_plus != BP_NO_PATCH)
-          r = rb_direct_received(elements, materials, next_element, element, facing(omega, n), -omega,
+          r = rb_direct_received(elements, materials, patch_materials, uv_slots, next_element, element,
+                                 facing(omega, n), -omega,
                                  next_depth - depth, c == eye, &it, &light_set_, next_minus, own_plus);
         else if (next_minus != BP_NO_PATCH && c != direct && c != eye)
           r = l_out[next_minus * chains + c];
@@ -431,7 +453,9 @@ __kernel void rb_eye_hits(__global const BvhNode* nodes, __global const BvhTrian
                           __global const TriangleShading* shading, __global const Material* materials,
                           const CameraParams camera, const uint seed, const uint jitter_index,
                           __global EyeHit* hits, __global const float* shading_normals, const uint has_normals,
-                          __global float4* eye_normals) {
+                          __global float4* eye_normals, const uint uv_slots, __global const TextureView* texture_views,
+                          __global const uint* texels, __global const MaterialTextures* material_textures,
+                          __global const float* texcoords, __global float4* eye_texels) {
   uint pixel = (uint)get_global_id(0);
   if (pixel >= camera.width * camera.height) return;
   Rng rng = rng_init(seed, pixel, jitter_index);
@@ -446,6 +470,7 @@ __kernel void rb_eye_hits(__global const BvhNode* nodes, __global const BvhTrian
   out.pad0 = 0.0f;
   Hit hit;
   float3 shading_normal = make_float3(0.0f, 0.0f, 1.0f);
+  float4 texel_kd = (float4)(0.0f), texel_ks = (float4)(0.0f), texel_emission = (float4)(0.0f);  // .w of ks: 0 untextured
   if (bvh_closest_hit(nodes, triangles, origin, dir, BP_FLOAT_MAX, &hit)) {
     SurfaceHit s = surface_at_shaded(shading, shading_normals, has_normals, hit.triangle, hit.b1, hit.b2,
                                      origin + dir * hit.t, dir);
@@ -456,9 +481,23 @@ __kernel void rb_eye_hits(__global const BvhNode* nodes, __global const BvhTrian
       out.patch = s.patch;
       out.element = t->first_element + patch_local_index(hit.b1, hit.b2, t->patch_subdiv);
       patch_local_barycentrics(hit.b1, hit.b2, t->patch_subdiv, &out.l1, &out.l2);
+      MaterialTextures mt;
+      if (BP_FEATURE_TEXTURES && uv_slots > 0u && material_is_textured((mt = material_textures[s.material], &mt))) {
+        // the eye gather reflects with the texel at the hit (DESIGN.md §6), its weights with the patch's mean
+        const TextureSet textures = {texture_views, texels, material_textures, texcoords, uv_slots};
+        TexelMaterial tm = texel_material(&textures, &mt, hit.triangle, hit.b1, hit.b2);
+        texel_kd = (float4)(tm.kd.x, tm.kd.y, tm.kd.z, tm.shininess);
+        texel_ks = (float4)(tm.ks.x, tm.ks.y, tm.ks.z, 1.0f);
+        texel_emission = (float4)(tm.emission.x, tm.emission.y, tm.emission.z, 0.0f);
+      }
     }
   }
   hits[pixel] = out;
+  if (BP_FEATURE_TEXTURES && uv_slots > 0u) {
+    eye_texels[3 * pixel] = texel_kd;
+    eye_texels[3 * pixel + 1] = texel_ks;
+    eye_texels[3 * pixel + 2] = texel_emission;
+  }
   if (BP_FEATURE_SHADING_NORMALS && has_normals)
     eye_normals[pixel] = (float4)(shading_normal.x, shading_normal.y, shading_normal.z, 0.0f);
 }
@@ -521,7 +560,8 @@ __kernel void rb_eye(__global const EyeHit* hits, __global const BundleElement* 
                      __global const float4* e_in, __global const uint* patch_vertices,
                      __global const float4* e_vertex, const uint gouraud, const BundleIteration it,
                      const uint pixels, __global float4* pixel_sum, __global const float4* eye_light,
-                     __global const float4* eye_normals) {
+                     __global const float4* eye_normals, __global const Material* patch_materials, const uint uv_slots,
+                     __global const float4* eye_texels) {
   uint pixel = (uint)get_global_id(0);
   if (pixel >= pixels) return;
   EyeHit h = hits[pixel];
@@ -540,7 +580,15 @@ __kernel void rb_eye(__global const EyeHit* hits, __global const BundleElement* 
   }
   uint pe = patch_element[h.patch];
   float3 n = patch_normal(elements, pe);
-  Bsdf bsdf = bsdf_from_material(&materials[elements[pe & ~BP_BACK_SIDE].material]);
+  Bsdf bsdf = bsdf_from_material(rb_material(materials, patch_materials, uv_slots, elements[pe & ~BP_BACK_SIDE].material,
+                                             h.patch));
+  if (BP_FEATURE_TEXTURES && uv_slots > 0u && eye_texels[3 * pixel + 1].w > 0.0f) {  // the texel's f and emission
+    float4 kd = eye_texels[3 * pixel], ks = eye_texels[3 * pixel + 1], le = eye_texels[3 * pixel + 2];
+    bsdf.kd = make_float3(kd.x, kd.y, kd.z);
+    bsdf.shininess_f = kd.w;
+    bsdf.ks = make_float3(ks.x, ks.y, ks.z);
+    bsdf.emission = make_float3(le.x, le.y, le.z);
+  }
   float3 wo = make_float3(h.wo[0], h.wo[1], h.wo[2]);
   float3 wi = facing(n, bp_private3(it.omega));
   BsdfValue v = bsdf_evaluate(&bsdf, n, wi, wo);  // about the patch normal: the weight inputs (DESIGN.md §3)

@@ -173,6 +173,12 @@ int run_render(const RenderOptions& o) {
                      std::to_string(patches.patch_count) + " receiving patches, more than " + device.info.device_name +
                      " offers (at most " + std::to_string(device.info.max_alloc_bytes >> 20) +
                      " MiB per buffer): raise --patch-size or use --light-selection power");
+  // All textures' texels are one buffer: refused before anything is built when it cannot fit the device.
+  const std::size_t texel_bytes = scene.has_textures() ? scene.texels.size() * sizeof(std::uint32_t) : 0;
+  if (texel_bytes > device.info.max_alloc_bytes || texel_bytes > device.info.global_memory_bytes / 4)
+    throw UsageError("the scene's textures need " + std::to_string(texel_bytes >> 20) + " MiB, more than " +
+                     device.info.device_name + " offers (at most " + std::to_string(device.info.max_alloc_bytes >> 20) +
+                     " MiB per buffer)");
   DeviceScene device_scene(device, scene, patches, bvh,
                            light_tree ? BP_LIGHT_SELECTION_TREE : BP_LIGHT_SELECTION_POWER);
   const CameraParams camera = pack_camera(scene.camera, width, height);
@@ -222,7 +228,7 @@ int run_render(const RenderOptions& o) {
     rb_settings.keep_raw = o.all_layers;
     try {
       check_bundle_memory(device.info, size, rb_settings.bins, std::size_t(width) * height, bundle_chains(rb_settings),
-                          scene.has_shading_normals());
+                          scene.has_shading_normals(), scene.has_textures());
     } catch (const std::invalid_argument& e) {
       throw UsageError(e.what());
     }
@@ -466,7 +472,8 @@ int run_render(const RenderOptions& o) {
     stats["triangles"] = scene.triangles.size();
     stats["patches"] = patches.patch_count;
     stats["patch_size"] = patch_size;
-    stats["scene_device_bytes"] = device_scene.bytes;  // BVH, shading, materials, lights, light tree, receivers
+    stats["scene_device_bytes"] = device_scene.bytes;  // BVH, shading, materials, lights, light tree, receivers, textures
+    stats["texture_device_bytes"] = device_scene.texture_bytes;  // texels, views, texcoords, patch means
     stats["load_seconds"] = load_seconds;
     stats["bvh_build_seconds"] = bvh_seconds;
     double build_seconds = 0.0;
@@ -523,7 +530,7 @@ int run_render(const RenderOptions& o) {
       stats["fragments_per_second"] = outcome.seconds > 0 ? double(outcome.fragments) / outcome.seconds : 0.0;
       stats["rb_device_bytes_estimate"] = estimate_bundle_memory(bundle_size(scene, patches), rb->bins(),
                                                                  std::size_t(width) * height, bundle_chains(rb_settings),
-                                                                 scene.has_shading_normals());
+                                                                 scene.has_shading_normals(), scene.has_textures());
       stats["rb_chains"] = bundle_chains(rb_settings);
     }
     if (reference) stats["reference"] = {{"path", o.reference_path}, {"layers", metrics}};

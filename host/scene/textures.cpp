@@ -1,0 +1,146 @@
+#include "scene/textures.h"
+
+#define STB_IMAGE_IMPLEMENTATION
+#define STB_IMAGE_STATIC  // private to this file (a test compiles its own copy)
+#define STBI_ONLY_PNG
+#define STBI_ONLY_JPEG
+#define STBI_NO_STDIO
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wall"
+#pragma GCC diagnostic ignored "-Wextra"
+#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
+#pragma GCC diagnostic ignored "-Wunused-function"
+#include <stb_image.h>
+#pragma GCC diagnostic pop
+
+#include <cmath>
+#include <limits>
+
+namespace bp {
+
+std::optional<DecodedImage> decode_image(const unsigned char* bytes, std::size_t size, std::string* error) {
+  if (size == 0 || size > std::size_t(std::numeric_limits<int>::max())) {
+    *error = size == 0 ? "is empty" : "is too large to decode";
+    return std::nullopt;
+  }
+  int w = 0, h = 0, channels = 0;
+  if (!stbi_info_from_memory(bytes, int(size), &w, &h, &channels)) {
+    *error = std::string("is not a decodable PNG or JPEG (") + stbi_failure_reason() + ")";
+    return std::nullopt;
+  }
+  if (w > kMaxTextureSide || h > kMaxTextureSide) {
+    *error = "is " + std::to_string(w) + " x " + std::to_string(h) + " texels, beyond the limit of " +
+             std::to_string(kMaxTextureSide) + " per side";
+    return std::nullopt;
+  }
+  unsigned char* pixels = stbi_load_from_memory(bytes, int(size), &w, &h, &channels, 4);
+  if (!pixels) {
+    *error = std::string("is not a decodable PNG or JPEG (") + stbi_failure_reason() + ")";
+    return std::nullopt;
+  }
+  DecodedImage out;
+  out.width = w;
+  out.height = h;
+  out.rgba.resize(std::size_t(w) * h);
+  for (std::size_t i = 0; i < out.rgba.size(); ++i) {
+    const unsigned char* p = pixels + 4 * i;
+    out.rgba[i] = std::uint32_t(p[0]) | std::uint32_t(p[1]) << 8 | std::uint32_t(p[2]) << 16 | std::uint32_t(p[3]) << 24;
+  }
+  stbi_image_free(pixels);
+  return out;
+}
+
+std::optional<std::uint32_t> wrap_mode_from_gltf(int mode) {
+  switch (mode) {
+    case 10497: return BP_WRAP_REPEAT;
+    case 33071: return BP_WRAP_CLAMP_TO_EDGE;
+    case 33648: return BP_WRAP_MIRRORED_REPEAT;
+    default: return std::nullopt;
+  }
+}
+
+void texture_transform(float offset_u, float offset_v, float rotation, float scale_u, float scale_v, float out[6]) {
+  // KHR_texture_transform: T R S with R = mat3(cos, sin, 0, -sin, cos, 0, 0, 0, 1) (column-major, as the spec's GLSL)
+  const float c = std::cos(rotation), s = std::sin(rotation);
+  out[0] = c * scale_u;   // column 0: R S e_u
+  out[1] = s * scale_u;
+  out[2] = -s * scale_v;  // column 1: R S e_v
+  out[3] = c * scale_v;
+  out[4] = offset_u;      // column 2: the offset
+  out[5] = offset_v;
+}
+
+std::vector<float> pack_texcoords(const Scene& scene) {
+  std::vector<float> out;
+  if (!scene.has_textures() || scene.uv_slots == 0) return out;
+  out.reserve(scene.triangles.size() * scene.uv_slots * 6);
+  for (const SceneTriangle& t : scene.triangles)
+    for (std::uint32_t s = 0; s < scene.uv_slots; ++s)
+      for (int k = 0; k < 3; ++k) out.insert(out.end(), {t.uv[s][k].x, t.uv[s][k].y});
+  return out;
+}
+
+std::vector<MaterialTextures> pack_material_textures(const Scene& scene) {
+  std::vector<MaterialTextures> out;
+  if (!scene.has_textures()) return out;
+  for (const SceneMaterial& m : scene.materials) out.push_back(m.textures);
+  return out;
+}
+
+TextureSet host_texture_set(const Scene& scene, const std::vector<MaterialTextures>& material_textures,
+                            const std::vector<float>& texcoords) {
+  TextureSet set{};
+  set.views = scene.texture_views.data();
+  set.texels = scene.texels.data();
+  set.materials = material_textures.data();
+  set.texcoords = texcoords.data();
+  set.uv_slots = scene.uv_slots;
+  return set;
+}
+
+std::vector<Material> patch_mean_materials(const Scene& scene, const PatchLayout& patches,
+                                           const std::vector<Material>& materials) {
+  std::vector<Material> out(patches.patch_count);
+  const std::vector<MaterialTextures> material_textures = pack_material_textures(scene);
+  const std::vector<float> texcoords = pack_texcoords(scene);
+  const TextureSet set = host_texture_set(scene, material_textures, texcoords);
+  constexpr std::uint32_t k = kPatchMeanSamplesPerSide, points = k * k;
+  for_each_sub_triangle(scene, patches, [&](const SubTriangle& sub) {
+    const SceneTriangle& tri = scene.triangles[sub.triangle];
+    Material m = materials[tri.material];
+    const SceneMaterial& sm = scene.materials[tri.material];
+    if (sm.textured()) {
+      // The midpoint rule on the patch's k^2 congruent sub-triangles: exact where the texel is linear over the patch.
+      double kd[3] = {0, 0, 0}, ks[3] = {0, 0, 0}, le[3] = {0, 0, 0}, roughness = 0.0;
+      for (std::uint32_t p = 0; p < points; ++p) {
+        float c1[3], c2[3];
+        patch_corner_barycentrics(p, k, c1, c2);
+        const float l1 = (c1[0] + c1[1] + c1[2]) / 3.0f, l2 = (c2[0] + c2[1] + c2[2]) / 3.0f;  // centroid
+        const float l0 = 1.0f - l1 - l2;
+        const float b1 = sub.b1[0] * l0 + sub.b1[1] * l1 + sub.b1[2] * l2;
+        const float b2 = sub.b2[0] * l0 + sub.b2[1] * l1 + sub.b2[2] * l2;
+        const TexelMaterial t = texel_material(&set, &sm.textures, std::uint32_t(sub.triangle), b1, b2);
+        const float3 v[3] = {t.kd, t.ks, t.emission};
+        double* sums[3] = {kd, ks, le};
+        for (int q = 0; q < 3; ++q) {
+          sums[q][0] += v[q].x;
+          sums[q][1] += v[q].y;
+          sums[q][2] += v[q].z;
+        }
+        roughness += t.roughness;
+      }
+      for (int c = 0; c < 3; ++c) {
+        m.kd[c] = float(kd[c] / points);
+        m.ks[c] = float(ks[c] / points);
+        m.emission[c] = float(le[c] / points);
+      }
+      m.shininess = phong_shininess_from_roughness(float(roughness / points));
+    }
+    const std::uint32_t front = patches.first_patch[sub.triangle] + sub.local;
+    out[front] = m;
+    if (sub.double_sided) out[front + sub.k2] = m;
+  });
+  return out;
+}
+
+}  // namespace bp
