@@ -13,6 +13,7 @@
 #include "shared/weights.h"
 #include "shared/lights.h"
 #include "shared/textured.h"
+#include "shared/alpha_mask.h"
 #include "scan.cl"
 
 #define BP_BACK_SIDE 0x80000000u
@@ -59,7 +60,8 @@ typedef struct {
 static PatchLightSample rb_light_sample(__global const BundleElement* e, float3 n, __global const BvhNode* nodes,
                                         __global const BvhTriangle* triangles, const LightSet* light_set,
                                         uint patch, __global const Material* materials, const BundleIteration* it,
-                                        Rng* rng, float ray_epsilon) {
+                                        Rng* rng, float ray_epsilon, __global const TriangleShading* shading,
+                                        uint alpha_masks) {
   PatchLightSample out;
   out.irradiance = make_float3(0.0f, 0.0f, 0.0f);
   float root = sqrt(rng_uniform(rng)), u = rng_uniform(rng);  // uniform on the element
@@ -72,7 +74,9 @@ static PatchLightSample rb_light_sample(__global const BundleElement* e, float3 
   float cos_x = dot(n, ls.wi);
   if (!(cos_x > 0.0f) || ls.radiance_over_pdf.x + ls.radiance_over_pdf.y + ls.radiance_over_pdf.z <= 0.0f) return out;
   float t_max = ls.is_delta ? ls.distance : ls.distance - 4.0f * ray_epsilon;
-  if (t_max <= 0.0f || bvh_occluded(nodes, triangles, x, ls.wi, t_max)) return out;
+  if (t_max <= 0.0f ||
+      surface_occludes(nodes, triangles, shading, &light_set->textures, alpha_masks, x, ls.wi, t_max, ray_epsilon))
+    return out;
   out.irradiance = ls.radiance_over_pdf * (cos_x / it->light_rate);  // L cos / p_solid, over the rate
   return out;
 }
@@ -102,7 +106,8 @@ __kernel void rb_outgoing(__global const BundleElement* elements, __global const
                           __global const LightTreeNode* light_tree, __global const LightReceiver* light_receivers,
                           const uint light_selection, __global const Material* patch_materials, const uint uv_slots,
                           __global const TextureView* texture_views, __global const uint* texels,
-                          __global const MaterialTextures* material_textures, __global const float* texcoords) {
+                          __global const MaterialTextures* material_textures, __global const float* texcoords,
+                          __global const TriangleShading* shading, const uint alpha_masks) {
   uint p = (uint)get_global_id(0);
   if (p >= patches) return;
   uint pe = patch_element[p];
@@ -125,7 +130,7 @@ __kernel void rb_outgoing(__global const BundleElement* elements, __global const
     // a black patch reflects no light sample; the others take one at the rate it.light_rate
     if (bsdf.continuation > 0.0f && (it.light_rate >= 1.0f || rng_uniform(&rng) < it.light_rate))
       ls = rb_light_sample(&elements[pe & ~BP_BACK_SIDE], n, nodes, triangles, &light_set_, p, materials, &it, &rng,
-                           ray_epsilon);
+                           ray_epsilon, shading, alpha_masks);
   }
   if (eye_chain < it.chains) {
     // The same sample for the eye vertex (--eye-direct shared): its irradiance weighted as the RB
@@ -169,16 +174,37 @@ __kernel void rb_outgoing(__global const BundleElement* elements, __global const
 //    its place in the tile: tile << 8 | local bin.
 __kernel void rb_emit(__global const BundleElement* elements, const BundleIteration it, const uint count,
                       __global const uint* slot_start, __global uint* fragment_counts, __global uint* fragment_key,
-                      __global float* fragment_depth, __global uint* tile_counts) {
+                      __global float* fragment_depth, __global uint* tile_counts, const uint alpha_masks,
+                      __global const uint* element_triangle, __global const TriangleShading* shading,
+                      __global const TextureView* texture_views, __global const uint* texels,
+                      __global const MaterialTextures* material_textures, __global const float* texcoords,
+                      const uint uv_slots) {
   uint e = (uint)get_global_id(0);
   if (e >= count) return;
   RasterElement r = raster_setup(&elements[e], &it);
+  // alphaMode MASK: a bin whose centre falls where the element is cut away gets no fragment
+  const TextureSet textures = {texture_views, texels, material_textures, texcoords, uv_slots};
+  uint masked_triangle = BP_NO_PATCH, material = elements[e].material;
+  float c1[3], c2[3];  // the element's corners on its triangle
+  if (BP_FEATURE_TEXTURES && alpha_masks && material_textures[material].alpha_cutoff > 0.0f) {
+    masked_triangle = element_triangle[e];
+    __global const TriangleShading* t = &shading[masked_triangle];
+    patch_corner_barycentrics(e - t->first_element, t->patch_subdiv, c1, c2);
+  }
   const uint begin = slot_start[e], end = slot_start[e + 1];
   uint slot = begin, tile = 0u, in_tile = 0u;  // a run of fragments in one tile: one atomic for the run
   for (int j = r.j0; j <= r.j1 && slot < end; ++j) {
     int first, last;
     raster_row_span(&r, j, &first, &last);
     for (int i = first; i <= last && slot < end; ++i) {
+      if (masked_triangle != BP_NO_PATCH) {
+        // the bin centre's barycentrics in the element (edge functions over twice the area), then on its triangle
+        float px = (float)i + 0.5f, py = (float)j + 0.5f, scale = r.inv_double_area * r.orientation;
+        float l1 = (r.slope[1] * px + r.rise[1] * py + r.base[1]) * scale;
+        float l2 = (r.slope[2] * px + r.rise[2] * py + r.base[2]) * scale, l0 = 1.0f - l1 - l2;
+        float b1 = c1[0] * l0 + c1[1] * l1 + c1[2] * l2, b2 = c2[0] * l0 + c2[1] * l1 + c2[2] * l2;
+        if (!alpha_is_surface(&textures, material, masked_triangle, b1, b2)) continue;
+      }
       uint key = bundle_tile_key((uint)i, (uint)j, it.bins_per_side);
       fragment_key[slot] = key;
       fragment_depth[slot] = raster_depth(&r, i, j);
@@ -430,12 +456,15 @@ static float4 gather_chain(__global const float4* received, __global const uint*
 __kernel void rb_gather(__global const BundleElement* elements, __global const uint* slot_start,
                         __global const uint* fragment_counts, __global const uint* tiled_at,
                         __global const float4* received_minus, __global const float4* received_plus,
-                        const BundleIteration it, const uint count, __global float4* e_in) {
+                        const BundleIteration it, const uint count, __global float4* e_in, const uint alpha_masks,
+                        __global const float* element_coverage) {
   uint e = (uint)get_global_id(0);
   if (e >= count) return;
   __global const BundleElement* el = &elements[e];
   uint begin = slot_start[e], end = begin + fragment_counts[e];
   float scale = it.bin_size * it.bin_size / el->area;
+  // alphaMode MASK: the power arrives on the part that is there, E_in is over that part's area
+  if (BP_FEATURE_TEXTURES && alpha_masks && element_coverage[e] > 0.0f) scale /= element_coverage[e];
   uint minus_patch, plus_patch;
   sides_along(el, bp_private3(it.omega), &minus_patch, &plus_patch);
   const int with_p = it.weight_mode == BP_WEIGHTS_PAPER;
@@ -455,7 +484,8 @@ __kernel void rb_eye_hits(__global const BvhNode* nodes, __global const BvhTrian
                           __global EyeHit* hits, __global const float* shading_normals, const uint has_normals,
                           __global float4* eye_normals, const uint uv_slots, __global const TextureView* texture_views,
                           __global const uint* texels, __global const MaterialTextures* material_textures,
-                          __global const float* texcoords, __global float4* eye_texels) {
+                          __global const float* texcoords, __global float4* eye_texels, const uint alpha_masks,
+                          const float ray_epsilon) {
   uint pixel = (uint)get_global_id(0);
   if (pixel >= camera.width * camera.height) return;
   Rng rng = rng_init(seed, pixel, jitter_index);
@@ -471,7 +501,9 @@ __kernel void rb_eye_hits(__global const BvhNode* nodes, __global const BvhTrian
   Hit hit;
   float3 shading_normal = make_float3(0.0f, 0.0f, 1.0f);
   float4 texel_kd = (float4)(0.0f), texel_ks = (float4)(0.0f), texel_emission = (float4)(0.0f);  // .w of ks: 0 untextured
-  if (bvh_closest_hit(nodes, triangles, origin, dir, BP_FLOAT_MAX, &hit)) {
+  const TextureSet mask_textures = {texture_views, texels, material_textures, texcoords, uv_slots};
+  if (closest_surface_hit(nodes, triangles, shading, &mask_textures, alpha_masks, origin, dir, BP_FLOAT_MAX, ray_epsilon,
+                          &hit)) {
     SurfaceHit s = surface_at_shaded(shading, shading_normals, has_normals, hit.triangle, hit.b1, hit.b2,
                                      origin + dir * hit.t, dir);
     shading_normal = s.shading_normal;
@@ -525,7 +557,8 @@ static uint eye_slots(const BundleIteration* it) {
 __kernel void rb_vertex(__global const uint* vertex_patch_start, __global const uint* vertex_patches,
                         __global const BundleElement* elements, __global const uint* patch_element,
                         __global const float4* e_in, const BundleIteration it, const uint vertices,
-                        __global float4* e_vertex, __global const float4* eye_light) {
+                        __global float4* e_vertex, __global const float4* eye_light, const uint alpha_masks,
+                        __global const float* element_coverage) {
   uint v = (uint)get_global_id(0);
   if (v >= vertices) return;
   const uint slots = eye_slots(&it);
@@ -534,7 +567,9 @@ __kernel void rb_vertex(__global const uint* vertex_patch_start, __global const 
     float area = 0.0f;
     for (uint k = vertex_patch_start[v]; k < vertex_patch_start[v + 1]; ++k) {
       uint p = vertex_patches[k];
-      float a = elements[patch_element[p] & ~BP_BACK_SIDE].area;
+      const uint element = patch_element[p] & ~BP_BACK_SIDE;
+      float a = elements[element].area;
+      if (BP_FEATURE_TEXTURES && alpha_masks) a *= element_coverage[element];  // alpha MASK: the part that is there
       sum += (c < it.chains ? e_in[p * it.chains + c] : eye_light[2 * p]) * a;
       area += a;
     }

@@ -118,6 +118,7 @@ DeviceScene::DeviceScene(const DeviceContext& device, const Scene& scene, const 
   normals_in = at_least_one(std::move(normals_in));
   const bool textured = scene.has_textures();
   uv_slots = textured ? scene.uv_slots : 0u;
+  alpha_masks = scene.has_alpha_masks() ? 1u : 0u;
   const std::vector<TextureView> views_in = at_least_one(textured ? scene.texture_views : std::vector<TextureView>{});
   const std::vector<std::uint32_t> texels_in = at_least_one(textured ? scene.texels : std::vector<std::uint32_t>{});
   const std::vector<MaterialTextures> material_textures_in = at_least_one(pack_material_textures(scene));
@@ -129,7 +130,20 @@ DeviceScene::DeviceScene(const DeviceContext& device, const Scene& scene, const 
   material_textures = upload_buffer(device, "material textures", material_textures_in);
   texcoords = upload_buffer(device, "texcoords", texcoords_in);
   patch_materials = upload_buffer(device, "patch mean materials", patch_materials_in);
-  texture_bytes = views_in.size() * sizeof(TextureView) + texels_in.size() * sizeof(std::uint32_t) +
+  std::vector<std::uint32_t> element_triangle_in;
+  std::vector<float> element_coverage_in;
+  if (alpha_masks) {
+    element_coverage_in = element_alpha_coverage(scene, patches);
+    for (std::size_t t = 0; t < scene.triangles.size(); ++t)
+      element_triangle_in.insert(element_triangle_in.end(), std::size_t(patches.subdiv[t]) * patches.subdiv[t],
+                                 std::uint32_t(t));
+  }
+  element_triangle_in = at_least_one(std::move(element_triangle_in));
+  element_coverage_in = at_least_one(std::move(element_coverage_in));
+  element_triangle = upload_buffer(device, "element triangles", element_triangle_in);
+  element_coverage = upload_buffer(device, "element alpha coverage", element_coverage_in);
+  texture_bytes = element_triangle_in.size() * sizeof(std::uint32_t) + element_coverage_in.size() * sizeof(float) +
+                  views_in.size() * sizeof(TextureView) + texels_in.size() * sizeof(std::uint32_t) +
                   material_textures_in.size() * sizeof(MaterialTextures) + texcoords_in.size() * sizeof(float) +
                   patch_materials_in.size() * sizeof(Material);
   nodes = upload_buffer(device, "bvh nodes", bvh.nodes);

@@ -246,10 +246,12 @@ void RayBundlePass::iterate(std::uint64_t iteration) {
            scene_.triangles, scene_.lights, scene_.light_cdf, cl_uint(settings_.seed ^ kLightSeedSalt),
            cl_uint(iteration), scene_.ray_epsilon, eye_light_, scene_.light_tree, scene_.light_receivers,
            cl_uint(scene_.light_selection), scene_.patch_materials, cl_uint(scene_.uv_slots), scene_.texture_views,
-           scene_.texels, scene_.material_textures, scene_.texcoords);
+           scene_.texels, scene_.material_textures, scene_.texcoords, scene_.shading, cl_uint(scene_.alpha_masks));
   launcher_.launch("rb_outgoing", outgoing_, patch_count_, 64);
 
-  set_args(emit_, elements_, it, elements, slot_start_, fragment_counts_, fragment_key_, fragment_depth_, tile_counts_);
+  set_args(emit_, elements_, it, elements, slot_start_, fragment_counts_, fragment_key_, fragment_depth_, tile_counts_,
+           cl_uint(scene_.alpha_masks), scene_.element_triangle, scene_.shading, scene_.texture_views, scene_.texels,
+           scene_.material_textures, scene_.texcoords, cl_uint(scene_.uv_slots));
   launcher_.launch("rb_emit", emit_, element_count_, 64);
   scan_.exclusive(launcher_, tile_counts_, tile_count_, tile_start_);
   if (!static_capacity_) {  // the tiled buffers hold what this iteration needs, not every slot: check
@@ -267,7 +269,7 @@ void RayBundlePass::iterate(std::uint64_t iteration) {
   launcher_.launch("rb_tile_resolve", tile_resolve_, tile_count_, 8);
 
   set_args(gather_, elements_, slot_start_, fragment_counts_, tiled_at_, received_minus_, received_plus_, it, elements,
-           e_in_);
+           e_in_, cl_uint(scene_.alpha_masks), scene_.element_coverage);
   launcher_.launch("rb_gather", gather_, element_count_, 64);
 }
 
@@ -288,7 +290,7 @@ BatchCounts RayBundlePass::run(std::uint64_t first, std::uint32_t count) {
     const BundleIteration it = iteration_params(iteration);
     if (settings_.gouraud) {
       set_args(vertex_, vertex_patch_start_, vertex_patches_, elements_, patch_element_, e_in_, it,
-               as_uint(vertex_count_), e_vertex_, eye_light_);
+               as_uint(vertex_count_), e_vertex_, eye_light_, cl_uint(scene_.alpha_masks), scene_.element_coverage);
       launcher_.launch("rb_vertex", vertex_, vertex_count_, 64);
     }
     set_args(eye_, eye_hits_buffer_, elements_, patch_element_, scene_.materials, e_in_, patch_vertices_, e_vertex_,
@@ -342,7 +344,8 @@ void RayBundlePass::trace_eye_hits(std::uint64_t jitter_index) {
   set_args(eye_hits_, scene_.nodes, scene_.triangles, scene_.shading, scene_.materials, camera_,
            cl_uint(settings_.seed ^ 0x5eed0e7eu), cl_uint(jitter_index), eye_hits_buffer_, scene_.shading_normals,
            cl_uint(scene_.has_shading_normals), eye_normals_, cl_uint(scene_.uv_slots), scene_.texture_views,
-           scene_.texels, scene_.material_textures, scene_.texcoords, eye_texels_);
+           scene_.texels, scene_.material_textures, scene_.texcoords, eye_texels_, cl_uint(scene_.alpha_masks),
+           scene_.ray_epsilon);
   launcher_.launch("rb_eye_hits", eye_hits_, pixel_count_, 64);
 }
 

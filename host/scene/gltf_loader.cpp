@@ -553,6 +553,19 @@ class Loader {
     }
     t.metallic_factor = metallic;
     t.roughness_factor = roughness;
+    // alphaMode MASK (DESIGN.md §6): where alpha (factor x texel) is below the cutoff there is no surface
+    bool cut_away = false;
+    if (m.alphaMode == "MASK") {
+      const double cutoff = m.alphaCutoff;
+      if (!(cutoff >= 0.0 && std::isfinite(cutoff))) fail(obj + " has alphaCutoff " + std::to_string(cutoff));
+      if (t.base_color != BP_NO_TEXTURE)
+        t.alpha_cutoff = float(cutoff);
+      else
+        cut_away = t.base_color_factor[3] < cutoff;  // the same alpha everywhere: all surface or none
+    } else if (m.alphaMode == "BLEND") {
+      scene_.warnings.push_back(obj + " has alphaMode BLEND; rendered opaque");
+    }
+    material_cut_away_.push_back(cut_away);
     material_uv_sets_.push_back(out.textured() ? uv_sets : std::vector<int>{});
     scene_.uv_slots = std::max(scene_.uv_slots, std::uint32_t(material_uv_sets_.back().size()));
   }
@@ -562,6 +575,7 @@ class Loader {
     fallback.name = "default";  // kd 0.8 grey Lambert, for primitives without a material
     scene_.materials.push_back(fallback);
     material_uv_sets_.emplace_back();
+    material_cut_away_.push_back(false);
     for (std::size_t i = 0; i < model_.materials.size(); ++i) {
       const auto& m = model_.materials[i];
       const std::string obj = "material " + std::to_string(i) + quoted(m.name);
@@ -622,6 +636,7 @@ class Loader {
                       specular_f0, out);
       } else {
         material_uv_sets_.emplace_back();
+        material_cut_away_.push_back(false);
         if (m.pbrMetallicRoughness.baseColorTexture.index >= 0 || m.emissiveTexture.index >= 0 ||
             m.pbrMetallicRoughness.metallicRoughnessTexture.index >= 0)
           scene_.warnings.push_back(obj + ": extras.phong wins; its textures are ignored");
@@ -901,6 +916,10 @@ class Loader {
     const bool flip = glm::determinant(glm::dmat3(world)) < 0.0;  // mirrored: keep fronts in front
     const glm::dmat3 normal_matrix = glm::transpose(glm::inverse(glm::dmat3(world)));  // normals: inverse transpose
     for (const LocalTriangle& t : mesh_triangles(node.mesh)) {
+      if (material_cut_away_[t.material]) {  // alphaMode MASK cuts all of it away
+        ++cut_away_;
+        continue;
+      }
       SceneTriangle out;
       for (int k = 0; k < 3; ++k) out.p[k] = glm::vec3(world * glm::dvec4(glm::dvec3(t.p[k]), 1.0));
       for (std::uint32_t slot = 0; slot < BP_MAX_UV_SLOTS; ++slot)
@@ -1031,6 +1050,9 @@ class Loader {
     if (zero_normals_)
       scene_.warnings.push_back(std::to_string(zero_normals_) +
                                 " triangle corner(s) have a zero NORMAL; the flat normal is used there");
+    if (cut_away_)
+      scene_.warnings.push_back("dropped " + std::to_string(cut_away_) +
+                                " triangle(s) whose alphaMode MASK material is below its alphaCutoff everywhere");
     if (missing_texcoords_)
       scene_.warnings.push_back(std::to_string(missing_texcoords_) +
                                 " textured primitive(s) lack the TEXCOORD set their material reads; it reads (0, 0) there");
@@ -1058,10 +1080,11 @@ class Loader {
   Scene scene_;
   std::map<int, std::vector<LocalTriangle>> mesh_cache_;
   std::map<int, ImageTexels> decoded_images_;
-  std::vector<std::vector<int>> material_uv_sets_;  // per scene material: the glTF TEXCOORD sets of its uv slots
+  std::vector<std::vector<int>> material_uv_sets_;
+  std::vector<bool> material_cut_away_;  // per scene material: alphaMode MASK with a constant alpha below the cutoff  // per scene material: the glTF TEXCOORD sets of its uv slots
   std::map<int, std::size_t> skipped_modes_;
   std::size_t primitives_without_position_ = 0, ragged_triangle_lists_ = 0, degenerate_ = 0, zero_normals_ = 0,
-              missing_texcoords_ = 0;
+              missing_texcoords_ = 0, cut_away_ = 0;
   bool camera_found_ = false;
 };
 

@@ -82,6 +82,7 @@ struct Scene {
   std::size_t emissive_triangles() const;
   bool has_shading_normals() const;      // some triangle has NORMAL corners
   bool has_textures() const;             // some material has a texture
+  bool has_alpha_masks() const;          // some material has alphaMode MASK with a texture
   bool has_environment() const { return environment.x > 0.0f || environment.y > 0.0f || environment.z > 0.0f; }
   bool has_light() const { return emissive_triangles() > 0 || !lights.empty() || has_environment(); }
 };

@@ -13,6 +13,8 @@
 #include <stb_image.h>
 #pragma GCC diagnostic pop
 
+#include "kernels/shared/alpha_mask.h"
+
 #include <cmath>
 #include <limits>
 
@@ -98,27 +100,37 @@ TextureSet host_texture_set(const Scene& scene, const std::vector<MaterialTextur
   return set;
 }
 
+namespace {
+
+// Calls visit(b1, b2) at the centroids of the kPatchMeanSamplesPerSide^2 congruent sub-triangles of
+// `sub`, in its triangle's barycentrics: the midpoint rule, exact for what is linear over the patch.
+template <class Visit> void for_each_patch_point(const SubTriangle& sub, Visit&& visit) {
+  constexpr std::uint32_t k = kPatchMeanSamplesPerSide;
+  for (std::uint32_t p = 0; p < k * k; ++p) {
+    float c1[3], c2[3];
+    patch_corner_barycentrics(p, k, c1, c2);
+    const float l1 = (c1[0] + c1[1] + c1[2]) / 3.0f, l2 = (c2[0] + c2[1] + c2[2]) / 3.0f, l0 = 1.0f - l1 - l2;
+    visit(sub.b1[0] * l0 + sub.b1[1] * l1 + sub.b1[2] * l2, sub.b2[0] * l0 + sub.b2[1] * l1 + sub.b2[2] * l2);
+  }
+}
+
+constexpr double kPatchPoints = double(kPatchMeanSamplesPerSide) * kPatchMeanSamplesPerSide;
+
+}  // namespace
+
 std::vector<Material> patch_mean_materials(const Scene& scene, const PatchLayout& patches,
                                            const std::vector<Material>& materials) {
   std::vector<Material> out(patches.patch_count);
   const std::vector<MaterialTextures> material_textures = pack_material_textures(scene);
   const std::vector<float> texcoords = pack_texcoords(scene);
   const TextureSet set = host_texture_set(scene, material_textures, texcoords);
-  constexpr std::uint32_t k = kPatchMeanSamplesPerSide, points = k * k;
   for_each_sub_triangle(scene, patches, [&](const SubTriangle& sub) {
     const SceneTriangle& tri = scene.triangles[sub.triangle];
     Material m = materials[tri.material];
     const SceneMaterial& sm = scene.materials[tri.material];
     if (sm.textured()) {
-      // The midpoint rule on the patch's k^2 congruent sub-triangles: exact where the texel is linear over the patch.
       double kd[3] = {0, 0, 0}, ks[3] = {0, 0, 0}, le[3] = {0, 0, 0}, roughness = 0.0;
-      for (std::uint32_t p = 0; p < points; ++p) {
-        float c1[3], c2[3];
-        patch_corner_barycentrics(p, k, c1, c2);
-        const float l1 = (c1[0] + c1[1] + c1[2]) / 3.0f, l2 = (c2[0] + c2[1] + c2[2]) / 3.0f;  // centroid
-        const float l0 = 1.0f - l1 - l2;
-        const float b1 = sub.b1[0] * l0 + sub.b1[1] * l1 + sub.b1[2] * l2;
-        const float b2 = sub.b2[0] * l0 + sub.b2[1] * l1 + sub.b2[2] * l2;
+      for_each_patch_point(sub, [&](float b1, float b2) {
         const TexelMaterial t = texel_material(&set, &sm.textures, std::uint32_t(sub.triangle), b1, b2);
         const float3 v[3] = {t.kd, t.ks, t.emission};
         double* sums[3] = {kd, ks, le};
@@ -128,17 +140,37 @@ std::vector<Material> patch_mean_materials(const Scene& scene, const PatchLayout
           sums[q][2] += v[q].z;
         }
         roughness += t.roughness;
-      }
+      });
       for (int c = 0; c < 3; ++c) {
-        m.kd[c] = float(kd[c] / points);
-        m.ks[c] = float(ks[c] / points);
-        m.emission[c] = float(le[c] / points);
+        m.kd[c] = float(kd[c] / kPatchPoints);
+        m.ks[c] = float(ks[c] / kPatchPoints);
+        m.emission[c] = float(le[c] / kPatchPoints);
       }
-      m.shininess = phong_shininess_from_roughness(float(roughness / points));
+      m.shininess = phong_shininess_from_roughness(float(roughness / kPatchPoints));
     }
     const std::uint32_t front = patches.first_patch[sub.triangle] + sub.local;
     out[front] = m;
     if (sub.double_sided) out[front + sub.k2] = m;
+  });
+  return out;
+}
+
+std::vector<float> element_alpha_coverage(const Scene& scene, const PatchLayout& patches) {
+  std::vector<float> out;
+  const std::vector<MaterialTextures> material_textures = pack_material_textures(scene);
+  const std::vector<float> texcoords = pack_texcoords(scene);
+  const TextureSet set = host_texture_set(scene, material_textures, texcoords);
+  for_each_sub_triangle(scene, patches, [&](const SubTriangle& sub) {
+    const std::uint32_t material = scene.triangles[sub.triangle].material;
+    if (!scene.materials[material].textured() || !(scene.materials[material].textures.alpha_cutoff > 0.0f)) {
+      out.push_back(1.0f);
+      return;
+    }
+    double surface = 0.0;
+    for_each_patch_point(sub, [&](float b1, float b2) {
+      surface += alpha_is_surface(&set, material, std::uint32_t(sub.triangle), b1, b2);
+    });
+    out.push_back(float(surface / kPatchPoints));
   });
   return out;
 }

@@ -55,4 +55,8 @@ inline constexpr int kPatchMeanSamplesPerSide = 16;
 std::vector<Material> patch_mean_materials(const Scene& scene, const PatchLayout& patches,
                                            const std::vector<Material>& materials);
 
+// alphaMode MASK: per element (sub-triangle, in patch order), the fraction of its area that is
+// surface (the same 256 centroids), over which RB's gather spreads the power its fragments receive.
+std::vector<float> element_alpha_coverage(const Scene& scene, const PatchLayout& patches);
+
 }  // namespace bp

@@ -102,6 +102,22 @@ TEST(GltfTextures, JpegFromADataUri) {
   }
 }
 
+// alphaMode MASK keeps its cutoff (default 0.5) with a texture; BLEND is rendered opaque with a warning.
+TEST(GltfTextures, AlphaModes) {
+  const Scene masked = load_gltf(test_file("good/alpha-mask-quad.gltf"));
+  EXPECT_TRUE(masked.has_alpha_masks());
+  EXPECT_FLOAT_EQ(masked.materials[1].textures.alpha_cutoff, 0.5f);
+  EXPECT_FALSE(load_gltf(test_file("good/textured-quad.gltf")).has_alpha_masks());
+  std::string text = read_text(test_file("good/textured-quad-view.gltf"));  // in memory: the image in a buffer view
+  const std::string name = "\"name\": \"textured\"";
+  const auto at = text.find(name);
+  ASSERT_NE(at, std::string::npos);
+  text.insert(at + name.size(), ", \"alphaMode\": \"BLEND\"");
+  const Scene blend = load_gltf_from_memory(text, "blend.gltf", false);
+  EXPECT_FALSE(blend.has_alpha_masks());
+  EXPECT_TRUE(test::has_warning(blend, "alphaMode BLEND; rendered opaque"));
+}
+
 // The Khronos sample: one 512 x 512 PNG in a data: URI, used by four materials with their factors.
 TEST(GltfTextures, TextureCoordinateTestSampleHasItsTexture) {
   const Scene s = load_gltf(test::gltf_sample("TextureCoordinateTest.gltf"));

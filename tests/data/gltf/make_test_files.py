@@ -190,6 +190,11 @@ def texture_files():
                               component=5123, normalized=True)
     write_json("good/textured-quad-ushort.gltf", embed(doc, blob))
 
+    # alphaMode MASK (default cutoff 0.5): the top-right texel (alpha 64/255) is cut away
+    doc, blob = textured_quad({"uri": "textured-quad.png"})
+    doc["materials"][0]["alphaMode"] = "MASK"
+    write_json("good/alpha-mask-quad.gltf", embed(doc, blob))
+
     doc, blob = textured_quad({"uri": "missing.png"})
     write_json("bad/texture-missing-image.gltf", embed(doc, blob))
     doc, blob = textured_quad({"uri": png_data_uri(b"this is not a PNG file at all")})
