@@ -619,10 +619,8 @@ __kernel void rb_eye(__global const EyeHit* hits, __global const BundleElement* 
                                              h.patch));
   if (BP_FEATURE_TEXTURES && uv_slots > 0u && eye_texels[3 * pixel + 1].w > 0.0f) {  // the texel's f and emission
     float4 kd = eye_texels[3 * pixel], ks = eye_texels[3 * pixel + 1], le = eye_texels[3 * pixel + 2];
-    bsdf.kd = make_float3(kd.x, kd.y, kd.z);
-    bsdf.shininess_f = kd.w;
-    bsdf.ks = make_float3(ks.x, ks.y, ks.z);
-    bsdf.emission = make_float3(le.x, le.y, le.z);
+    bsdf_take_texel(&bsdf, make_float3(kd.x, kd.y, kd.z), make_float3(ks.x, ks.y, ks.z), kd.w,
+                    make_float3(le.x, le.y, le.z));
   }
   float3 wo = make_float3(h.wo[0], h.wo[1], h.wo[2]);
   float3 wi = facing(n, bp_private3(it.omega));

@@ -142,7 +142,8 @@ DeviceScene::DeviceScene(const DeviceContext& device, const Scene& scene, const 
   element_coverage_in = at_least_one(std::move(element_coverage_in));
   element_triangle = upload_buffer(device, "element triangles", element_triangle_in);
   element_coverage = upload_buffer(device, "element alpha coverage", element_coverage_in);
-  texture_bytes = element_triangle_in.size() * sizeof(std::uint32_t) + element_coverage_in.size() * sizeof(float) +
+  // (the one-entry stand-ins of a scene without textures are not counted as texture memory)
+  texture_bytes = !textured ? 0 : element_triangle_in.size() * sizeof(std::uint32_t) + element_coverage_in.size() * sizeof(float) +
                   views_in.size() * sizeof(TextureView) + texels_in.size() * sizeof(std::uint32_t) +
                   material_textures_in.size() * sizeof(MaterialTextures) + texcoords_in.size() * sizeof(float) +
                   patch_materials_in.size() * sizeof(Material);
@@ -162,7 +163,7 @@ DeviceScene::DeviceScene(const DeviceContext& device, const Scene& scene, const 
           shading_in.size() * sizeof(TriangleShading) + materials_in.size() * sizeof(Material) +
           lights_in.size() * sizeof(Light) + cdf_in.size() * sizeof(float) +
           tree_in.size() * sizeof(LightTreeNode) + receivers_in.size() * sizeof(LightReceiver) +
-          normals_in.size() * sizeof(float) + texture_bytes;
+          normals_in.size() * sizeof(float) + texture_bytes;  // (textures' stand-ins: a few bytes, not counted)
 }
 
 }  // namespace bp

@@ -13,8 +13,6 @@
 #include <stb_image.h>
 #pragma GCC diagnostic pop
 
-#include "kernels/shared/alpha_mask.h"
-
 #include <cmath>
 #include <limits>
 
@@ -129,8 +127,11 @@ std::vector<Material> patch_mean_materials(const Scene& scene, const PatchLayout
     Material m = materials[tri.material];
     const SceneMaterial& sm = scene.materials[tri.material];
     if (sm.textured()) {
-      double kd[3] = {0, 0, 0}, ks[3] = {0, 0, 0}, le[3] = {0, 0, 0}, roughness = 0.0;
+      double kd[3] = {0, 0, 0}, ks[3] = {0, 0, 0}, le[3] = {0, 0, 0}, roughness = 0.0, points = 0.0;
       for_each_patch_point(sub, [&](float b1, float b2) {
+        // alphaMode MASK: the mean over the part that is there (what RB's fragments are)
+        if (!alpha_is_surface(&set, tri.material, std::uint32_t(sub.triangle), b1, b2)) return;
+        points += 1.0;
         const TexelMaterial t = texel_material(&set, &sm.textures, std::uint32_t(sub.triangle), b1, b2);
         const float3 v[3] = {t.kd, t.ks, t.emission};
         double* sums[3] = {kd, ks, le};
@@ -141,12 +142,12 @@ std::vector<Material> patch_mean_materials(const Scene& scene, const PatchLayout
         }
         roughness += t.roughness;
       });
-      for (int c = 0; c < 3; ++c) {
-        m.kd[c] = float(kd[c] / kPatchPoints);
-        m.ks[c] = float(ks[c] / kPatchPoints);
-        m.emission[c] = float(le[c] / kPatchPoints);
+      for (int c = 0; c < 3 && points > 0.0; ++c) {
+        m.kd[c] = float(kd[c] / points);
+        m.ks[c] = float(ks[c] / points);
+        m.emission[c] = float(le[c] / points);
       }
-      m.shininess = phong_shininess_from_roughness(float(roughness / kPatchPoints));
+      if (points > 0.0) m.shininess = phong_shininess_from_roughness(float(roughness / points));
     }
     const std::uint32_t front = patches.first_patch[sub.triangle] + sub.local;
     out[front] = m;

@@ -10,14 +10,6 @@
 
 #define BP_MAX_ALPHA_SKIPS 64u  // cut-away hits one ray passes at most (then it ends there: no hit)
 
-// 1 where barycentrics (b1, b2) of `triangle` of `material` are a surface.
-BP_FN int alpha_is_surface(const TextureSet* set, bp_u32 material, bp_u32 triangle, float b1, float b2) {
-  BP_GLOBAL const MaterialTextures* mt = &set->materials[material];
-  if (!(mt->alpha_cutoff > 0.0f)) return 1;
-  Texel t = texture_at(set, mt->base_color, triangle, b1, b2);
-  return t.a * mt->base_color_factor[3] >= mt->alpha_cutoff;
-}
-
 // The closest hit along the ray before t_max that is a surface; masks 0: the scene has none (the
 // plain closest hit). Passing a cut-away hit restarts just beyond it (`step` metres on).
 BP_FN int closest_surface_hit(BP_GLOBAL const BvhNode* nodes, BP_GLOBAL const BvhTriangle* tris,

@@ -239,8 +239,12 @@ BP_FN LightSample light_sample(const LightSet* set, BP_GLOBAL const Material* ma
     float pdf_area = set->selection == BP_LIGHT_SELECTION_TREE ? pick.probability / l->area : m->light_pdf_area;
     s.pdf_uv = light_pdf_uv_area(pdf_area, s.distance, cos_light);
     float3 le = bp_load3(m->emission);
-    if (BP_FEATURE_TEXTURES && set->textures.uv_slots > 0u)  // an emissive texture's texel at the sampled point
+    if (BP_FEATURE_TEXTURES && set->textures.uv_slots > 0u) {  // an emissive texture's texel at the sampled point
       le = texel_emission(&set->textures, l->material, l->triangle, root * (1.0f - u2), root * u2, le);
+      // where an alpha mask cuts the emitter away nothing emits (PT's rays pass there too)
+      if (!alpha_is_surface(&set->textures, l->material, l->triangle, root * (1.0f - u2), root * u2))
+        le = make_float3(0.0f, 0.0f, 0.0f);
+    }
     if (s.pdf_uv > 0.0f) s.radiance_over_pdf = le * (BP_TWO_PI / s.pdf_uv);  // L / p_solid
   } else if (l->type == BP_LIGHT_DIRECTIONAL) {
     s.radiance_over_pdf = bp_load3(l->intensity) * (1.0f / pick.probability);  // E / P(select): L / p_solid of a delta

@@ -207,6 +207,15 @@ BP_FN float3 texel_emission(const TextureSet* set, bp_u32 material, bp_u32 trian
   return make_float3(mt->emissive_factor[0] * t.r, mt->emissive_factor[1] * t.g, mt->emissive_factor[2] * t.b);
 }
 
+// alphaMode MASK: 1 where barycentrics (b1, b2) of `triangle` of `material` are a surface (alpha,
+// base colour factor x texel, at or above the cutoff; always without a cutoff).
+BP_FN int alpha_is_surface(const TextureSet* set, bp_u32 material, bp_u32 triangle, float b1, float b2) {
+  BP_GLOBAL const MaterialTextures* mt = &set->materials[material];
+  if (!(mt->alpha_cutoff > 0.0f)) return 1;
+  Texel t = texture_at(set, mt->base_color, triangle, b1, b2);
+  return t.a * mt->base_color_factor[3] >= mt->alpha_cutoff;
+}
+
 // True where the material has textures (the others keep their Material as it is).
 BP_FN int material_is_textured(const MaterialTextures* mt) {
   return mt->base_color != BP_NO_TEXTURE || mt->metallic_roughness != BP_NO_TEXTURE || mt->emissive != BP_NO_TEXTURE;

@@ -6,15 +6,20 @@
 #include "shared/brdf.h"
 #include "shared/texture.h"
 
-// bsdf (from the patch's mean Material) with the texel at barycentrics (b1, b2) of `triangle`.
+// bsdf (from the patch's mean Material) with f and the emission of a texel's material.
+BP_FN void bsdf_take_texel(Bsdf* bsdf, float3 kd, float3 ks, float shininess, float3 emission) {
+  bsdf->kd = kd;
+  bsdf->ks = ks;
+  bsdf->shininess_f = shininess;
+  bsdf->emission = emission;
+}
+
+// The same with the texel at barycentrics (b1, b2) of `triangle`, where its material is textured.
 BP_FN void bsdf_apply_texel(Bsdf* bsdf, const TextureSet* set, bp_u32 material, bp_u32 triangle, float b1, float b2) {
   MaterialTextures mt = set->materials[material];
   if (!material_is_textured(&mt)) return;
   TexelMaterial t = texel_material(set, &mt, triangle, b1, b2);
-  bsdf->kd = t.kd;
-  bsdf->ks = t.ks;
-  bsdf->shininess_f = t.shininess;
-  bsdf->emission = t.emission;
+  bsdf_take_texel(bsdf, t.kd, t.ks, t.shininess, t.emission);
 }
 
 #endif  // BP_SHARED_TEXTURED_H

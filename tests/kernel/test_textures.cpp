@@ -143,6 +143,67 @@ TEST(Textures, TextureCoordinateTestSampleRendersItsTexture) {
   EXPECT_GT(cov / std::sqrt(var_r * var_e), 0.9) << "the rendered pixels do not follow the texture";
 }
 
+// An emissiveTexture: a 1 m panel 0.3 m above a grey floor whose left (-x) half emits (texel 255: sRGB 1)
+// and right half not (texel 0). The path tracer with light sampling (its light samples read the
+// texel at the sampled point) and without (only BSDF-sampled hits, which read the texel at the hit)
+// estimate the same image: their means over independent runs agree within 4.5 standard errors of
+// the difference; reading the emissive factor at the light samples would double the lit half.
+TEST(Textures, EmissiveTextureLightSamplesReadTheTexel) {
+  Scene scene;
+  SceneMaterial floor, panel;
+  floor.kd = glm::vec3(0.5f);
+  panel.kd = glm::vec3(0.0f);
+  panel.emission = glm::vec3(2.0f);
+  panel.textures.emissive = 0;
+  for (int c = 0; c < 3; ++c) panel.textures.emissive_factor[c] = 2.0f;
+  scene.materials = {floor, panel};
+  scene.texels = {0xffffffffu, 0xff000000u};  // white, black
+  TextureView v{};
+  v.width = 2;
+  v.height = 1;
+  v.flags = BP_WRAP_CLAMP_TO_EDGE | BP_WRAP_CLAMP_TO_EDGE << BP_TEXTURE_WRAP_T_SHIFT | BP_TEXTURE_NEAREST | BP_TEXTURE_SRGB;
+  texture_transform(0, 0, 0, 1, 1, v.transform);
+  scene.texture_views = {v};
+  scene.uv_slots = 1;
+  const float f = 2.0f;  // the floor, facing +z
+  scene.triangles.push_back({{{-f, -f, 0}, {f, -f, 0}, {f, f, 0}}, 0});
+  scene.triangles.push_back({{{-f, -f, 0}, {f, f, 0}, {-f, f, 0}}, 0});
+  const glm::vec3 q[4] = {{-0.5f, -0.5f, 0.3f}, {-0.5f, 0.5f, 0.3f}, {0.5f, 0.5f, 0.3f}, {0.5f, -0.5f, 0.3f}};  // facing -z
+  for (auto [a, b, c] : {std::array<int, 3>{0, 1, 2}, std::array<int, 3>{0, 2, 3}}) {
+    SceneTriangle t{{q[a], q[b], q[c]}, 1};
+    const int corners[3] = {a, b, c};
+    for (int k = 0; k < 3; ++k) t.uv[0][k] = glm::vec2(q[corners[k]].x + 0.5f, 0.5f);  // u along x
+    scene.triangles.push_back(t);
+  }
+  for (const SceneTriangle& t : scene.triangles)
+    for (const glm::vec3& p : t.p) scene.bounds.grow(p);
+  scene.camera.position = glm::vec3(0.0f, 0.0f, 0.25f);  // below the panel, seeing the floor to 0.26 m
+  scene.camera.forward = glm::vec3(0.0f, 0.0f, -1.0f);
+  scene.camera.up = glm::vec3(0.0f, 1.0f, 0.0f);
+  scene.camera.yfov = 1.6f;
+  const int runs = 6, spp = 32, size = 16;
+  double mean[2] = {0, 0}, var[2] = {0, 0}, left[2] = {0, 0}, right[2] = {0, 0};
+  for (int with_nee = 0; with_nee < 2; ++with_nee) {
+    std::vector<double> m;
+    for (int k = 0; k < runs; ++k) {
+      const ImageRGB image = render_pt(scene, size, size, spp, 21 + 5 * k, 65536, with_nee == 1).image;
+      double sum = 0.0;
+      for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x) {
+          sum += image.pixel(x, y)[0];
+          (x < size / 2 ? left : right)[with_nee] += image.pixel(x, y)[0];
+        }
+      m.push_back(sum / (size * size));
+    }
+    for (double x : m) mean[with_nee] += x / runs;
+    for (double x : m) var[with_nee] += (x - mean[with_nee]) * (x - mean[with_nee]) / (runs - 1);
+  }
+  const double se = std::sqrt((var[0] + var[1]) / runs);
+  EXPECT_LT(se, 0.02 * mean[1]) << "too noisy to see the texel's factor 2";
+  EXPECT_NEAR(mean[1], mean[0], 4.5 * se) << "with light sampling " << mean[1] << ", without " << mean[0];
+  EXPECT_GT(left[1], 1.5 * right[1]) << "the floor under the lit half is not brighter";  // (the same by symmetry if not)
+}
+
 // alphaMode MASK (good/alpha-mask-quad.gltf): the top-right texel, alpha 64/255 below the cutoff 0.5,
 // is no surface: its pixels see the environment itself (expected_block says what each block reads).
 bool cut_away(int x, int y, bool masked) { return masked && x == 3 && y == 0; }

@@ -118,6 +118,40 @@ TEST(GltfTextures, AlphaModes) {
   EXPECT_TRUE(test::has_warning(blend, "alphaMode BLEND; rendered opaque"));
 }
 
+// KHR_texture_transform on a textureInfo: its offset, rotation and scale as the view's transform, its
+// texCoord choosing the set (a primitive without that set reads (0, 0), with a warning).
+TEST(GltfTextures, TextureTransformAndItsTexCoord) {
+  std::string text = read_text(test_file("good/textured-quad-view.gltf"));
+  const std::string info = "\"baseColorTexture\": {";
+  const auto at = text.find(info);
+  ASSERT_NE(at, std::string::npos);
+  text.insert(at + info.size(),
+              "\"extensions\": {\"KHR_texture_transform\": {\"offset\": [0.5, 0.25], \"rotation\": 0.3, "
+              "\"scale\": [2, 3], \"texCoord\": 1}}, ");
+  const Scene s = load_gltf_from_memory(text, "transform.gltf", false);
+  ASSERT_EQ(s.texture_views.size(), 1u);
+  float expected[6];
+  texture_transform(0.5f, 0.25f, 0.3f, 2.0f, 3.0f, expected);
+  for (int i = 0; i < 6; ++i) EXPECT_FLOAT_EQ(s.texture_views[0].transform[i], expected[i]) << i;
+  EXPECT_TRUE(test::has_warning(s, "lack the TEXCOORD set their material reads"));
+  for (const SceneTriangle& t : s.triangles) EXPECT_EQ(t.uv[0][1], glm::vec2(0.0f));
+  // a malformed one is exit 3 naming the material
+  std::string bad = read_text(test_file("good/textured-quad-view.gltf"));
+  bad.insert(bad.find(info) + info.size(), "\"extensions\": {\"KHR_texture_transform\": {\"offset\": 1}}, ");
+  EXPECT_THROW(
+      {
+        try {
+          load_gltf_from_memory(bad, "bad-transform.gltf", false);
+        } catch (const SceneError& e) {
+          EXPECT_NE(std::string(e.what()).find("material 0 \"textured\" baseColorTexture KHR_texture_transform"),
+                    std::string::npos)
+              << e.what();
+          throw;
+        }
+      },
+      SceneError);
+}
+
 // The Khronos sample: one 512 x 512 PNG in a data: URI, used by four materials with their factors.
 TEST(GltfTextures, TextureCoordinateTestSampleHasItsTexture) {
   const Scene s = load_gltf(test::gltf_sample("TextureCoordinateTest.gltf"));
