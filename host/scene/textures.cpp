@@ -13,8 +13,10 @@
 #include <stb_image.h>
 #pragma GCC diagnostic pop
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <thread>
 
 namespace bp {
 
@@ -114,6 +116,17 @@ template <class Visit> void for_each_patch_point(const SubTriangle& sub, Visit&&
 
 constexpr double kPatchPoints = double(kPatchMeanSamplesPerSide) * kPatchMeanSamplesPerSide;
 
+// for_each_sub_triangle with the triangles split among the host's threads (the means cost some 10 us
+// per patch); visit must only write what its own sub-triangle owns.
+template <class Visit> void for_each_sub_triangle_in_parallel(const Scene& scene, const PatchLayout& patches, Visit&& visit) {
+  const std::size_t n = scene.triangles.size();
+  const std::size_t threads = std::clamp<std::size_t>(std::thread::hardware_concurrency(), 1, (n + 63) / 64);
+  std::vector<std::thread> pool;
+  for (std::size_t i = 0; i < threads; ++i)
+    pool.emplace_back([&, i] { for_each_sub_triangle(scene, patches, visit, n * i / threads, n * (i + 1) / threads); });
+  for (std::thread& t : pool) t.join();
+}
+
 }  // namespace
 
 std::vector<Material> patch_mean_materials(const Scene& scene, const PatchLayout& patches,
@@ -122,7 +135,7 @@ std::vector<Material> patch_mean_materials(const Scene& scene, const PatchLayout
   const std::vector<MaterialTextures> material_textures = pack_material_textures(scene);
   const std::vector<float> texcoords = pack_texcoords(scene);
   const TextureSet set = host_texture_set(scene, material_textures, texcoords);
-  for_each_sub_triangle(scene, patches, [&](const SubTriangle& sub) {
+  for_each_sub_triangle_in_parallel(scene, patches, [&](const SubTriangle& sub) {
     const SceneTriangle& tri = scene.triangles[sub.triangle];
     Material m = materials[tri.material];
     const SceneMaterial& sm = scene.materials[tri.material];
@@ -157,21 +170,21 @@ std::vector<Material> patch_mean_materials(const Scene& scene, const PatchLayout
 }
 
 std::vector<float> element_alpha_coverage(const Scene& scene, const PatchLayout& patches) {
-  std::vector<float> out;
+  std::vector<std::size_t> first_element(scene.triangles.size() + 1, 0);  // elements: k^2 per triangle, in order
+  for (std::size_t t = 0; t < scene.triangles.size(); ++t)
+    first_element[t + 1] = first_element[t] + std::size_t(patches.subdiv[t]) * patches.subdiv[t];
+  std::vector<float> out(first_element.back(), 1.0f);
   const std::vector<MaterialTextures> material_textures = pack_material_textures(scene);
   const std::vector<float> texcoords = pack_texcoords(scene);
   const TextureSet set = host_texture_set(scene, material_textures, texcoords);
-  for_each_sub_triangle(scene, patches, [&](const SubTriangle& sub) {
+  for_each_sub_triangle_in_parallel(scene, patches, [&](const SubTriangle& sub) {
     const std::uint32_t material = scene.triangles[sub.triangle].material;
-    if (!scene.materials[material].textured() || !(scene.materials[material].textures.alpha_cutoff > 0.0f)) {
-      out.push_back(1.0f);
-      return;
-    }
+    if (!scene.materials[material].textured() || !(scene.materials[material].textures.alpha_cutoff > 0.0f)) return;
     double surface = 0.0;
     for_each_patch_point(sub, [&](float b1, float b2) {
       surface += alpha_is_surface(&set, material, std::uint32_t(sub.triangle), b1, b2);
     });
-    out.push_back(float(surface / kPatchPoints));
+    out[first_element[sub.triangle] + sub.local] = float(surface / kPatchPoints);
   });
   return out;
 }
