@@ -12,11 +12,21 @@
 #include "shared/surface.h"
 #include "shared/weights.h"
 #include "shared/lights.h"
+#include "shared/textured.h"
+#include "shared/alpha_mask.h"
 #include "scan.cl"
 
 #define BP_BACK_SIDE 0x80000000u
 #define BP_NO_SENDER (-3.0e38f)  // .w of radiance that came from no patch (below any ln P)
 #define BP_CONTACT (-3.2e38f)    // .w of a fragment covered by one it touches: it receives nothing, and is not counted
+
+// The material RB reflects and emits with on `patch` (a side of an element of `material`): with
+// textures its mean over the patch (host/scene/textures.h), which every weight input reads on both
+// sides; uv_slots 0: the scene has no textures.
+static __global const Material* rb_material(__global const Material* materials, __global const Material* patch_materials,
+                                            uint uv_slots, uint material, uint patch) {
+  return BP_FEATURE_TEXTURES && uv_slots > 0u && patch != BP_NO_PATCH ? &patch_materials[patch] : &materials[material];
+}
 
 // Normal of a patch (its element's normal, flipped for a back side).
 static float3 patch_normal(__global const BundleElement* elements, uint patch_element) {
@@ -50,7 +60,8 @@ typedef struct {
 static PatchLightSample rb_light_sample(__global const BundleElement* e, float3 n, __global const BvhNode* nodes,
                                         __global const BvhTriangle* triangles, const LightSet* light_set,
                                         uint patch, __global const Material* materials, const BundleIteration* it,
-                                        Rng* rng, float ray_epsilon) {
+                                        Rng* rng, float ray_epsilon, __global const TriangleShading* shading,
+                                        uint alpha_masks) {
   PatchLightSample out;
   out.irradiance = make_float3(0.0f, 0.0f, 0.0f);
   float root = sqrt(rng_uniform(rng)), u = rng_uniform(rng);  // uniform on the element
@@ -63,7 +74,9 @@ static PatchLightSample rb_light_sample(__global const BundleElement* e, float3 
   float cos_x = dot(n, ls.wi);
   if (!(cos_x > 0.0f) || ls.radiance_over_pdf.x + ls.radiance_over_pdf.y + ls.radiance_over_pdf.z <= 0.0f) return out;
   float t_max = ls.is_delta ? ls.distance : ls.distance - 4.0f * ray_epsilon;
-  if (t_max <= 0.0f || bvh_occluded(nodes, triangles, x, ls.wi, t_max)) return out;
+  if (t_max <= 0.0f ||
+      surface_occludes(nodes, triangles, shading, &light_set->textures, alpha_masks, x, ls.wi, t_max, ray_epsilon))
+    return out;
   out.irradiance = ls.radiance_over_pdf * (cos_x / it->light_rate);  // L cos / p_solid, over the rate
   return out;
 }
@@ -91,12 +104,15 @@ __kernel void rb_outgoing(__global const BundleElement* elements, __global const
                           __global const Light* lights, __global const float* light_cdf, const uint light_seed,
                           const uint iteration, const float ray_epsilon, __global float4* eye_light,
                           __global const LightTreeNode* light_tree, __global const LightReceiver* light_receivers,
-                          const uint light_selection) {
+                          const uint light_selection, __global const Material* patch_materials, const uint uv_slots,
+                          __global const TextureView* texture_views, __global const uint* texels,
+                          __global const MaterialTextures* material_textures, __global const float* texcoords,
+                          __global const TriangleShading* shading, const uint alpha_masks) {
   uint p = (uint)get_global_id(0);
   if (p >= patches) return;
   uint pe = patch_element[p];
   float3 n = patch_normal(elements, pe);
-  Bsdf bsdf = bsdf_from_material(&materials[elements[pe & ~BP_BACK_SIDE].material]);
+  Bsdf bsdf = bsdf_from_material(rb_material(materials, patch_materials, uv_slots, elements[pe & ~BP_BACK_SIDE].material, p));
   float3 wi = facing(n, bp_private3(it.omega_prev));
   float3 wo = facing(n, bp_private3(it.omega));
   BsdfValue v = bsdf_evaluate(&bsdf, n, wi, wo);
@@ -109,10 +125,12 @@ __kernel void rb_outgoing(__global const BundleElement* elements, __global const
   if (light_sampling) {
     Rng rng = rng_init(light_seed, p, iteration);
     LightSet light_set_ = light_set(lights, light_cdf, light_tree, light_receivers, it.light_count, light_selection);
+    const TextureSet textures = {texture_views, texels, material_textures, texcoords, uv_slots};
+    light_set_.textures = textures;  // emissive textures at the sampled point
     // a black patch reflects no light sample; the others take one at the rate it.light_rate
     if (bsdf.continuation > 0.0f && (it.light_rate >= 1.0f || rng_uniform(&rng) < it.light_rate))
       ls = rb_light_sample(&elements[pe & ~BP_BACK_SIDE], n, nodes, triangles, &light_set_, p, materials, &it, &rng,
-                           ray_epsilon);
+                           ray_epsilon, shading, alpha_masks);
   }
   if (eye_chain < it.chains) {
     // The same sample for the eye vertex (--eye-direct shared): its irradiance weighted as the RB
@@ -156,16 +174,37 @@ __kernel void rb_outgoing(__global const BundleElement* elements, __global const
 //    its place in the tile: tile << 8 | local bin.
 __kernel void rb_emit(__global const BundleElement* elements, const BundleIteration it, const uint count,
                       __global const uint* slot_start, __global uint* fragment_counts, __global uint* fragment_key,
-                      __global float* fragment_depth, __global uint* tile_counts) {
+                      __global float* fragment_depth, __global uint* tile_counts, const uint alpha_masks,
+                      __global const uint* element_triangle, __global const TriangleShading* shading,
+                      __global const TextureView* texture_views, __global const uint* texels,
+                      __global const MaterialTextures* material_textures, __global const float* texcoords,
+                      const uint uv_slots) {
   uint e = (uint)get_global_id(0);
   if (e >= count) return;
   RasterElement r = raster_setup(&elements[e], &it);
+  // alphaMode MASK: a bin whose centre falls where the element is cut away gets no fragment
+  const TextureSet textures = {texture_views, texels, material_textures, texcoords, uv_slots};
+  uint masked_triangle = BP_NO_PATCH, material = elements[e].material;
+  float c1[3], c2[3];  // the element's corners on its triangle
+  if (BP_FEATURE_TEXTURES && alpha_masks && material_textures[material].alpha_cutoff > 0.0f) {
+    masked_triangle = element_triangle[e];
+    __global const TriangleShading* t = &shading[masked_triangle];
+    patch_corner_barycentrics(e - t->first_element, t->patch_subdiv, c1, c2);
+  }
   const uint begin = slot_start[e], end = slot_start[e + 1];
   uint slot = begin, tile = 0u, in_tile = 0u;  // a run of fragments in one tile: one atomic for the run
   for (int j = r.j0; j <= r.j1 && slot < end; ++j) {
     int first, last;
     raster_row_span(&r, j, &first, &last);
     for (int i = first; i <= last && slot < end; ++i) {
+      if (masked_triangle != BP_NO_PATCH) {
+        // the bin centre's barycentrics in the element (edge functions over twice the area), then on its triangle
+        float px = (float)i + 0.5f, py = (float)j + 0.5f, scale = r.inv_double_area * r.orientation;
+        float l1 = (r.slope[1] * px + r.rise[1] * py + r.base[1]) * scale;
+        float l2 = (r.slope[2] * px + r.rise[2] * py + r.base[2]) * scale, l0 = 1.0f - l1 - l2;
+        float b1 = c1[0] * l0 + c1[1] * l1 + c1[2] * l2, b2 = c2[0] * l0 + c2[1] * l1 + c2[2] * l2;
+        if (!alpha_is_surface(&textures, material, masked_triangle, b1, b2)) continue;
+      }
       uint key = bundle_tile_key((uint)i, (uint)j, it.bins_per_side);
       fragment_key[slot] = key;
       fragment_depth[slot] = raster_depth(&r, i, j);
@@ -232,16 +271,18 @@ static void sides_along(__global const BundleElement* e, float3 omega, uint* min
 // and the view-independent proxy stands in for PT's density.
 // The patches: the sender's emitting side, the receiver's receiving side (light selection's receiver).
 static float4 rb_direct_received(__global const BundleElement* elements, __global const Material* materials,
+                                 __global const Material* patch_materials, uint uv_slots,
                                  uint sender_element, uint receiver_element, float3 n_receiver, float3 travel,
                                  float distance, int eye_vertex, const BundleIteration* it, const LightSet* light_set,
                                  uint sender_patch, uint receiver_patch) {
   __global const BundleElement* se = &elements[sender_element];
-  __global const Material* sm = &materials[se->material];
+  __global const Material* sm = rb_material(materials, patch_materials, uv_slots, se->material, sender_patch);
   float3 le = bp_load3(sm->emission);
   if (le.x + le.y + le.z <= 0.0f) return (float4)(0.0f);
   float p_light = light_pdf_uv_area(light_pdf_area_from(light_set, materials, receiver_patch, sender_patch, se->material),
                                     distance, fabs(dot(bp_load3(se->normal), travel)));
-  Bsdf receiver = bsdf_from_material(&materials[elements[receiver_element].material]);
+  Bsdf receiver =
+      bsdf_from_material(rb_material(materials, patch_materials, uv_slots, elements[receiver_element].material, receiver_patch));
   float3 wi = facing(n_receiver, travel);
   float w;
   if (eye_vertex) {
@@ -261,12 +302,14 @@ static float4 rb_direct_received(__global const BundleElement* elements, __globa
 // sampling nothing (it leaves light straight from emitters to the direct chain); for the others the
 // radiance itself, with the paper's P = 1 of an emitter (.w = ln 1).
 static float4 rb_environment_received(__global const BundleElement* elements, __global const Material* materials,
+                                      __global const Material* patch_materials, uint uv_slots, uint receiver_patch,
                                       uint receiver_element, float3 n_receiver, float3 travel, uint c, uint direct,
                                       uint eye, int light_sampling, const BundleIteration* it) {
   float3 env = bp_private3(it->environment);
   if (c == 0u && light_sampling) return (float4)(0.0f, 0.0f, 0.0f, BP_NO_SENDER);
   if (c != direct && c != eye) return (float4)(env.x, env.y, env.z, 0.0f);
-  Bsdf receiver = bsdf_from_material(&materials[elements[receiver_element].material]);
+  Bsdf receiver =
+      bsdf_from_material(rb_material(materials, patch_materials, uv_slots, elements[receiver_element].material, receiver_patch));
   float3 wi = facing(n_receiver, travel);
   float w;
   if (c == eye) {
@@ -291,7 +334,8 @@ __kernel void rb_tile_resolve(__global const BundleElement* elements, __global c
                               const uint tiles, __global float4* received_minus, __global float4* received_plus,
                               __global ulong* fragment_total, __global const Light* lights,
                               __global const float* light_cdf, __global const LightTreeNode* light_tree,
-                              __global const LightReceiver* light_receivers, const uint light_selection) {
+                              __global const LightReceiver* light_receivers, const uint light_selection,
+                              __global const Material* patch_materials, const uint uv_slots) {
   uint tile = (uint)get_global_id(0);
   if (tile == 0u) *fragment_total += tile_start[tiles];  // for the statistics, read back with the image sums
   if (tile >= tiles) return;
@@ -338,10 +382,12 @@ __kernel void rb_tile_resolve(__global const BundleElement* elements, __global c
         if (touches_sender)
           r.w = BP_CONTACT;
         else if (environment && a == first)  // nothing in front along -omega: the environment
-          r = rb_environment_received(elements, materials, element, facing(-omega, n), omega, c, direct, eye,
+          r = rb_environment_received(elements, materials, patch_materials, uv_slots, minus_patch, element,
+                                      facing(-omega, n), omega, c, direct, eye,
                                       light_sampling, &it);
         else if (sender != BP_NO_PATCH && (c == direct || c == eye) && minus_patch != BP_NO_PATCH)
-          r = rb_direct_received(elements, materials, sender_element, element, facing(-omega, n), omega,
+          r = rb_direct_received(elements, materials, patch_materials, uv_slots, sender_element, element,
+                                 facing(-omega, n), omega,
                                  depth - sender_depth, c == eye, &it, &light_set_, sender, minus_patch);
         else if (sender != BP_NO_PATCH && c != direct && c != eye)
           r = l_out[sender * chains + c];
@@ -366,10 +412,12 @@ __kernel void rb_tile_resolve(__global const BundleElement* elements, __global c
         if (touches_next)
           r.w = BP_CONTACT;
         else if (environment && a + 1 == last)  // nothing in front along +omega: the environment
-          r = rb_environment_received(elements, materials, element, facing(omega, n), -omega, c, direct, eye,
+          r = rb_environment_received(elements, materials, patch_materials, uv_slots, own_plus, element,
+                                      facing(omega, n), -omega, c, direct, eye,
                                       light_sampling, &it);
         else if (next_minus != BP_NO_PATCH && (c == direct || c == eye) && own_plus != BP_NO_PATCH)
-          r = rb_direct_received(elements, materials, next_element, element, facing(omega, n), -omega,
+          r = rb_direct_received(elements, materials, patch_materials, uv_slots, next_element, element,
+                                 facing(omega, n), -omega,
                                  next_depth - depth, c == eye, &it, &light_set_, next_minus, own_plus);
         else if (next_minus != BP_NO_PATCH && c != direct && c != eye)
           r = l_out[next_minus * chains + c];
@@ -408,12 +456,15 @@ static float4 gather_chain(__global const float4* received, __global const uint*
 __kernel void rb_gather(__global const BundleElement* elements, __global const uint* slot_start,
                         __global const uint* fragment_counts, __global const uint* tiled_at,
                         __global const float4* received_minus, __global const float4* received_plus,
-                        const BundleIteration it, const uint count, __global float4* e_in) {
+                        const BundleIteration it, const uint count, __global float4* e_in, const uint alpha_masks,
+                        __global const float* element_coverage) {
   uint e = (uint)get_global_id(0);
   if (e >= count) return;
   __global const BundleElement* el = &elements[e];
   uint begin = slot_start[e], end = begin + fragment_counts[e];
   float scale = it.bin_size * it.bin_size / el->area;
+  // alphaMode MASK: the power arrives on the part that is there, E_in is over that part's area
+  if (BP_FEATURE_TEXTURES && alpha_masks && element_coverage[e] > 0.0f) scale /= element_coverage[e];
   uint minus_patch, plus_patch;
   sides_along(el, bp_private3(it.omega), &minus_patch, &plus_patch);
   const int with_p = it.weight_mode == BP_WEIGHTS_PAPER;
@@ -431,7 +482,10 @@ __kernel void rb_eye_hits(__global const BvhNode* nodes, __global const BvhTrian
                           __global const TriangleShading* shading, __global const Material* materials,
                           const CameraParams camera, const uint seed, const uint jitter_index,
                           __global EyeHit* hits, __global const float* shading_normals, const uint has_normals,
-                          __global float4* eye_normals) {
+                          __global float4* eye_normals, const uint uv_slots, __global const TextureView* texture_views,
+                          __global const uint* texels, __global const MaterialTextures* material_textures,
+                          __global const float* texcoords, __global float4* eye_texels, const uint alpha_masks,
+                          const float ray_epsilon) {
   uint pixel = (uint)get_global_id(0);
   if (pixel >= camera.width * camera.height) return;
   Rng rng = rng_init(seed, pixel, jitter_index);
@@ -446,7 +500,10 @@ __kernel void rb_eye_hits(__global const BvhNode* nodes, __global const BvhTrian
   out.pad0 = 0.0f;
   Hit hit;
   float3 shading_normal = make_float3(0.0f, 0.0f, 1.0f);
-  if (bvh_closest_hit(nodes, triangles, origin, dir, BP_FLOAT_MAX, &hit)) {
+  float4 texel_kd = (float4)(0.0f), texel_ks = (float4)(0.0f), texel_emission = (float4)(0.0f);  // .w of ks: 0 untextured
+  const TextureSet mask_textures = {texture_views, texels, material_textures, texcoords, uv_slots};
+  if (closest_surface_hit(nodes, triangles, shading, &mask_textures, alpha_masks, origin, dir, BP_FLOAT_MAX, ray_epsilon,
+                          &hit)) {
     SurfaceHit s = surface_at_shaded(shading, shading_normals, has_normals, hit.triangle, hit.b1, hit.b2,
                                      origin + dir * hit.t, dir);
     shading_normal = s.shading_normal;
@@ -456,9 +513,23 @@ __kernel void rb_eye_hits(__global const BvhNode* nodes, __global const BvhTrian
       out.patch = s.patch;
       out.element = t->first_element + patch_local_index(hit.b1, hit.b2, t->patch_subdiv);
       patch_local_barycentrics(hit.b1, hit.b2, t->patch_subdiv, &out.l1, &out.l2);
+      MaterialTextures mt;
+      if (BP_FEATURE_TEXTURES && uv_slots > 0u && material_is_textured((mt = material_textures[s.material], &mt))) {
+        // the eye gather reflects with the texel at the hit (DESIGN.md §6), its weights with the patch's mean
+        const TextureSet textures = {texture_views, texels, material_textures, texcoords, uv_slots};
+        TexelMaterial tm = texel_material(&textures, &mt, hit.triangle, hit.b1, hit.b2);
+        texel_kd = (float4)(tm.kd.x, tm.kd.y, tm.kd.z, tm.shininess);
+        texel_ks = (float4)(tm.ks.x, tm.ks.y, tm.ks.z, 1.0f);
+        texel_emission = (float4)(tm.emission.x, tm.emission.y, tm.emission.z, 0.0f);
+      }
     }
   }
   hits[pixel] = out;
+  if (BP_FEATURE_TEXTURES && uv_slots > 0u) {
+    eye_texels[3 * pixel] = texel_kd;
+    eye_texels[3 * pixel + 1] = texel_ks;
+    eye_texels[3 * pixel + 2] = texel_emission;
+  }
   if (BP_FEATURE_SHADING_NORMALS && has_normals)
     eye_normals[pixel] = (float4)(shading_normal.x, shading_normal.y, shading_normal.z, 0.0f);
 }
@@ -486,7 +557,8 @@ static uint eye_slots(const BundleIteration* it) {
 __kernel void rb_vertex(__global const uint* vertex_patch_start, __global const uint* vertex_patches,
                         __global const BundleElement* elements, __global const uint* patch_element,
                         __global const float4* e_in, const BundleIteration it, const uint vertices,
-                        __global float4* e_vertex, __global const float4* eye_light) {
+                        __global float4* e_vertex, __global const float4* eye_light, const uint alpha_masks,
+                        __global const float* element_coverage) {
   uint v = (uint)get_global_id(0);
   if (v >= vertices) return;
   const uint slots = eye_slots(&it);
@@ -495,7 +567,9 @@ __kernel void rb_vertex(__global const uint* vertex_patch_start, __global const 
     float area = 0.0f;
     for (uint k = vertex_patch_start[v]; k < vertex_patch_start[v + 1]; ++k) {
       uint p = vertex_patches[k];
-      float a = elements[patch_element[p] & ~BP_BACK_SIDE].area;
+      const uint element = patch_element[p] & ~BP_BACK_SIDE;
+      float a = elements[element].area;
+      if (BP_FEATURE_TEXTURES && alpha_masks) a *= element_coverage[element];  // alpha MASK: the part that is there
       sum += (c < it.chains ? e_in[p * it.chains + c] : eye_light[2 * p]) * a;
       area += a;
     }
@@ -521,7 +595,8 @@ __kernel void rb_eye(__global const EyeHit* hits, __global const BundleElement* 
                      __global const float4* e_in, __global const uint* patch_vertices,
                      __global const float4* e_vertex, const uint gouraud, const BundleIteration it,
                      const uint pixels, __global float4* pixel_sum, __global const float4* eye_light,
-                     __global const float4* eye_normals) {
+                     __global const float4* eye_normals, __global const Material* patch_materials, const uint uv_slots,
+                     __global const float4* eye_texels) {
   uint pixel = (uint)get_global_id(0);
   if (pixel >= pixels) return;
   EyeHit h = hits[pixel];
@@ -540,7 +615,13 @@ __kernel void rb_eye(__global const EyeHit* hits, __global const BundleElement* 
   }
   uint pe = patch_element[h.patch];
   float3 n = patch_normal(elements, pe);
-  Bsdf bsdf = bsdf_from_material(&materials[elements[pe & ~BP_BACK_SIDE].material]);
+  Bsdf bsdf = bsdf_from_material(rb_material(materials, patch_materials, uv_slots, elements[pe & ~BP_BACK_SIDE].material,
+                                             h.patch));
+  if (BP_FEATURE_TEXTURES && uv_slots > 0u && eye_texels[3 * pixel + 1].w > 0.0f) {  // the texel's f and emission
+    float4 kd = eye_texels[3 * pixel], ks = eye_texels[3 * pixel + 1], le = eye_texels[3 * pixel + 2];
+    bsdf_take_texel(&bsdf, make_float3(kd.x, kd.y, kd.z), make_float3(ks.x, ks.y, ks.z), kd.w,
+                    make_float3(le.x, le.y, le.z));
+  }
   float3 wo = make_float3(h.wo[0], h.wo[1], h.wo[2]);
   float3 wi = facing(n, bp_private3(it.omega));
   BsdfValue v = bsdf_evaluate(&bsdf, n, wi, wo);  // about the patch normal: the weight inputs (DESIGN.md §3)

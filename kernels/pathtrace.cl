@@ -9,6 +9,8 @@
 #include "shared/path_pdf.h"
 #include "shared/weights.h"
 #include "shared/lights.h"
+#include "shared/textured.h"
+#include "shared/alpha_mask.h"
 
 typedef struct {
   BP_GLOBAL const BvhNode* nodes;
@@ -16,8 +18,20 @@ typedef struct {
   BP_GLOBAL const TriangleShading* shading;
   BP_GLOBAL const Material* materials;
   BP_GLOBAL const float* shading_normals;  // NORMAL corners, 9 floats per triangle (params.shading_normals)
-  LightSet lights;  // with the per-patch receivers that light selection reads
+  LightSet lights;  // with the per-patch receivers that light selection reads, and the textures
+  BP_GLOBAL const Material* patch_materials;  // textures: per patch, its mean material (host/scene/textures.h)
+  bp_u32 alpha_masks;  // 1: some material has alphaMode MASK (alpha_mask.h)
 } SceneRefs;
+
+// The BSDF at a hit: its material's, or with textures its patch's mean with the texel's f and
+// emission (textured.h: every weight input stays patch-level, as RB has it).
+static Bsdf pt_bsdf(const SceneRefs* scene, const SurfaceHit* surface, const Hit* hit) {
+  if (!BP_FEATURE_TEXTURES || scene->lights.textures.uv_slots == 0u)
+    return bsdf_from_material(&scene->materials[surface->material]);
+  Bsdf bsdf = bsdf_from_material(&scene->patch_materials[surface->patch]);
+  bsdf_apply_texel(&bsdf, &scene->lights.textures, surface->material, hit->triangle, hit->b1, hit->b2);
+  return bsdf;
+}
 
 typedef struct {
   float3 weighted;  // each emission times w_PT of its prefix
@@ -70,7 +84,9 @@ static void add_light_sample(const SceneRefs* scene, const PathTraceParams* para
   // An area light's own surface is at ls.distance: stop the shadow ray a few offsets short of it.
   float t_max = ls.is_delta ? ls.distance : ls.distance - 4.0f * params->ray_epsilon;
   *rays += 1u;
-  if (t_max <= 0.0f || bvh_occluded(scene->nodes, scene->triangles, x, ls.wi, t_max)) return;
+  if (t_max <= 0.0f || surface_occludes(scene->nodes, scene->triangles, scene->shading, &scene->lights.textures,
+                                        scene->alpha_masks, x, ls.wi, t_max, params->ray_epsilon))
+    return;
   BsdfValue v = bsdf_evaluate(bsdf, surface->shading_normal, ls.wi, wo);
   float pdf_bsdf = bsdf->continuation * v.pdf_uv;  // s p_b
   float pdf_bsdf_patch = bsdf->continuation * pdf_uv_patch(surface, bsdf, ls.wi, wo, v.pdf_uv);
@@ -125,7 +141,8 @@ static PathRadiance trace_path(const SceneRefs* scene, const PathTraceParams* pa
   for (bp_u32 depth = 0; depth < params->max_depth; ++depth) {
     Hit hit;
     *rays += 1u;
-    if (!bvh_closest_hit(scene->nodes, scene->triangles, origin, dir, BP_FLOAT_MAX, &hit)) {
+    if (!closest_surface_hit(scene->nodes, scene->triangles, scene->shading, &scene->lights.textures, scene->alpha_masks,
+                             origin, dir, BP_FLOAT_MAX, params->ray_epsilon, &hit)) {
       add_environment(params, &pdf, depth, throughput, light_sampling, last_prefix_beta, last_pdf_bsdf_patch,
                       last_pdf_bsdf, last_pdf_proxy, &radiance);
       break;
@@ -133,7 +150,7 @@ static PathRadiance trace_path(const SceneRefs* scene, const PathTraceParams* pa
     SurfaceHit surface = surface_at_shaded(scene->shading, scene->shading_normals, params->shading_normals,
                                            hit.triangle, hit.b1, hit.b2, origin + dir * hit.t, dir);
     if (!surface.reflects && !(scene->materials[surface.material].flags & BP_MATERIAL_DOUBLE_SIDED)) break;
-    Bsdf bsdf = bsdf_from_material(&scene->materials[surface.material]);
+    Bsdf bsdf = pt_bsdf(scene, &surface, &hit);
     float3 wo = -dir;
 
     // Emission picked up after this prefix, weighted with w_PT of the prefix (DESIGN.md §3); with
@@ -199,11 +216,17 @@ __kernel void pathtrace(__global const BvhNode* nodes, __global const BvhTriangl
                         const CameraParams camera, const PathTraceParams params,
                         __global PixelAccum* accum, __global const LightTreeNode* light_tree,
                         __global const LightReceiver* light_receivers, const uint light_selection,
-                        __global const float* shading_normals) {
+                        __global const float* shading_normals, __global const TextureView* texture_views,
+                        __global const uint* texels, __global const MaterialTextures* material_textures,
+                        __global const float* texcoords, __global const Material* patch_materials,
+                        const uint alpha_masks) {
   bp_u32 pixel = (bp_u32)get_global_id(0);
   if (pixel >= camera.width * camera.height) return;
   SceneRefs scene = {nodes, triangles, shading, materials, shading_normals,
-                     light_set(lights, light_cdf, light_tree, light_receivers, params.light_count, light_selection)};
+                     light_set(lights, light_cdf, light_tree, light_receivers, params.light_count, light_selection),
+                     patch_materials, alpha_masks};
+  const TextureSet textures = {texture_views, texels, material_textures, texcoords, params.uv_slots};
+  scene.lights.textures = textures;
   bp_u32 px = pixel % camera.width, py = pixel / camera.width;
   float3 origin = make_float3(camera.position[0], camera.position[1], camera.position[2]);
   float3 sum = make_float3(0.0f, 0.0f, 0.0f), sum_raw = make_float3(0.0f, 0.0f, 0.0f);

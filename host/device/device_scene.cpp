@@ -1,5 +1,6 @@
 #include "device/device_scene.h"
 #include "device/launcher.h"
+#include "scene/textures.h"
 
 #include <cmath>
 
@@ -115,6 +116,37 @@ DeviceScene::DeviceScene(const DeviceContext& device, const Scene& scene, const 
   has_shading_normals = normals_in.empty() ? 0u : 1u;
   for (int c = 0; c < 3; ++c) environment[c] = scene.environment[c];
   normals_in = at_least_one(std::move(normals_in));
+  const bool textured = scene.has_textures();
+  uv_slots = textured ? scene.uv_slots : 0u;
+  alpha_masks = scene.has_alpha_masks() ? 1u : 0u;
+  const std::vector<TextureView> views_in = at_least_one(textured ? scene.texture_views : std::vector<TextureView>{});
+  const std::vector<std::uint32_t> texels_in = at_least_one(textured ? scene.texels : std::vector<std::uint32_t>{});
+  const std::vector<MaterialTextures> material_textures_in = at_least_one(pack_material_textures(scene));
+  const std::vector<float> texcoords_in = at_least_one(pack_texcoords(scene));
+  const std::vector<Material> patch_materials_in =
+      at_least_one(textured ? patch_mean_materials(scene, patches, materials_in) : std::vector<Material>{});
+  texture_views = upload_buffer(device, "texture views", views_in);
+  texels = upload_buffer(device, "texels", texels_in);
+  material_textures = upload_buffer(device, "material textures", material_textures_in);
+  texcoords = upload_buffer(device, "texcoords", texcoords_in);
+  patch_materials = upload_buffer(device, "patch mean materials", patch_materials_in);
+  std::vector<std::uint32_t> element_triangle_in;
+  std::vector<float> element_coverage_in;
+  if (alpha_masks) {
+    element_coverage_in = element_alpha_coverage(scene, patches);
+    for (std::size_t t = 0; t < scene.triangles.size(); ++t)
+      element_triangle_in.insert(element_triangle_in.end(), std::size_t(patches.subdiv[t]) * patches.subdiv[t],
+                                 std::uint32_t(t));
+  }
+  element_triangle_in = at_least_one(std::move(element_triangle_in));
+  element_coverage_in = at_least_one(std::move(element_coverage_in));
+  element_triangle = upload_buffer(device, "element triangles", element_triangle_in);
+  element_coverage = upload_buffer(device, "element alpha coverage", element_coverage_in);
+  // (the one-entry stand-ins of a scene without textures are not counted as texture memory)
+  texture_bytes = !textured ? 0 : element_triangle_in.size() * sizeof(std::uint32_t) + element_coverage_in.size() * sizeof(float) +
+                  views_in.size() * sizeof(TextureView) + texels_in.size() * sizeof(std::uint32_t) +
+                  material_textures_in.size() * sizeof(MaterialTextures) + texcoords_in.size() * sizeof(float) +
+                  patch_materials_in.size() * sizeof(Material);
   nodes = upload_buffer(device, "bvh nodes", bvh.nodes);
   triangles = upload_buffer(device, "bvh triangles", bvh.triangles);
   shading = upload_buffer(device, "triangle shading", shading_in);
@@ -131,7 +163,7 @@ DeviceScene::DeviceScene(const DeviceContext& device, const Scene& scene, const 
           shading_in.size() * sizeof(TriangleShading) + materials_in.size() * sizeof(Material) +
           lights_in.size() * sizeof(Light) + cdf_in.size() * sizeof(float) +
           tree_in.size() * sizeof(LightTreeNode) + receivers_in.size() * sizeof(LightReceiver) +
-          normals_in.size() * sizeof(float);
+          normals_in.size() * sizeof(float) + texture_bytes;  // (textures' stand-ins: a few bytes, not counted)
 }
 
 }  // namespace bp

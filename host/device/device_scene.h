@@ -28,6 +28,13 @@ struct DeviceScene {
   cl::Buffer lights, light_cdf;  // one dummy entry each when the scene has no light to sample
   cl::Buffer shading_normals;  // pack_shading_normals (one dummy entry without them)
   std::uint32_t has_shading_normals = 0;  // 1: the kernels interpolate shading_normals
+  // Textures (host/scene/textures.h; one dummy entry each without them): views, RGBA8 texels, each
+  // material's textures, per-triangle texcoords, and per patch its mean material.
+  cl::Buffer texture_views, texels, material_textures, texcoords, patch_materials;
+  std::uint32_t uv_slots = 0;  // texcoord sets per triangle; 0: the scene has no textures
+  std::uint32_t alpha_masks = 0;  // 1: some material has alphaMode MASK (kernels/shared/alpha_mask.h)
+  cl::Buffer element_triangle, element_coverage;  // alpha masks: per RB element its triangle and surface fraction
+  std::size_t texture_bytes = 0;  // of the above, device memory (in `bytes` too)
   float environment[3] = {0.0f, 0.0f, 0.0f};  // Scene::environment, for the passes' parameters
   cl::Buffer light_tree, light_receivers;  // tree selection only (else one dummy entry each); receivers per patch
   std::uint32_t light_selection = BP_LIGHT_SELECTION_TREE;  // BP_LIGHT_SELECTION_*, the same for PT and RB

@@ -8,13 +8,15 @@ KernelFeatures features_for(const Scene& scene, bool light_sampling) {
   for (const SceneMaterial& m : scene.materials) f.phong = f.phong || m.ks.x > 0.0f || m.ks.y > 0.0f || m.ks.z > 0.0f;
   f.light_sampling = light_sampling;
   f.shading_normals = scene.has_shading_normals();
+  f.textures = scene.has_textures();
   return f;
 }
 
 std::string kernel_options(const KernelFeatures& f) {
   return std::string("-DBP_FEATURE_PHONG=") + (f.phong ? "1" : "0") +
          " -DBP_FEATURE_LIGHT_SAMPLING=" + (f.light_sampling ? "1" : "0") +
-         " -DBP_FEATURE_SHADING_NORMALS=" + (f.shading_normals ? "1" : "0");
+         " -DBP_FEATURE_SHADING_NORMALS=" + (f.shading_normals ? "1" : "0") +
+         " -DBP_FEATURE_TEXTURES=" + (f.textures ? "1" : "0");
 }
 
 }  // namespace bp

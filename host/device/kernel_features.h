@@ -10,6 +10,7 @@ struct KernelFeatures {
   bool phong = true;           // a Phong lobe somewhere (ks > 0); off: every material is Lambert
   bool light_sampling = true;  // next-event estimation / per-patch shadow rays (kernels/shared/lights.h)
   bool shading_normals = true; // interpolated NORMAL corners (kernels/shared/surface.h); off: flat normals only
+  bool textures = true;        // glTF textures (kernels/shared/texture.h); off: every material is its factors
 };
 
 // What `scene` needs when light sampling is `light_sampling`.

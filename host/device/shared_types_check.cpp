@@ -27,9 +27,10 @@ static_assert(offsetof(BundleIteration, omega_prev) == 64 && offsetof(BundleIter
 BP_CHECK_LAYOUT(EyeHit, 32);
 
 #include "kernels/shared/lights.h"
-BP_CHECK_LAYOUT(Light, 96);
+BP_CHECK_LAYOUT(Light, 112);
 static_assert(offsetof(Light, axis) == 48 && offsetof(Light, intensity) == 64 && offsetof(Light, cos_inner) == 80 &&
-              offsetof(Light, tree_trail) == 84);
+              offsetof(Light, tree_trail) == 84 &&
+              offsetof(Light, triangle) == 96);
 
 #include "kernels/shared/light_tree.h"
 BP_CHECK_LAYOUT(LightTreeNode, 64);

@@ -17,6 +17,7 @@ PathTracerPass::PathTracerPass(const DeviceContext& device, const DeviceScene& s
   params_.light_count = settings.light_sampling ? scene.light_count : 0u;
   params_.eye_direct_shared = settings.eye_direct_shared && settings.weight_mode == BP_WEIGHTS_PRODUCT ? 1u : 0u;
   params_.shading_normals = scene.has_shading_normals;
+  params_.uv_slots = scene.uv_slots;
   for (int c = 0; c < 3; ++c) params_.environment[c] = scene.environment[c];
   program_ = build_program(device, "pathtrace.cl", settings.kernel_options);
   kernel_ = cl::Kernel(program_.program, "pathtrace");
@@ -25,7 +26,8 @@ PathTracerPass::PathTracerPass(const DeviceContext& device, const DeviceScene& s
   pixels_ = make_buffer(device, "pixel accumulators", CL_MEM_WRITE_ONLY, pixels * sizeof(PixelAccum));
   set_args(kernel_, scene.nodes, scene.triangles, scene.shading, scene.materials, scene.lights, scene.light_cdf, camera_,
            params_, pixels_, scene.light_tree, scene.light_receivers, cl_uint(scene.light_selection),
-           scene.shading_normals);
+           scene.shading_normals, scene.texture_views, scene.texels, scene.material_textures, scene.texcoords,
+           scene.patch_materials, cl_uint(scene.alpha_masks));
 }
 
 std::uint32_t PathTracerPass::max_batch() const {

@@ -76,19 +76,20 @@ std::uint32_t bundle_chains(const RayBundleSettings& settings) {
 }
 
 std::size_t estimate_bundle_memory(const BundleSize& size, std::uint32_t bins, std::size_t pixels, std::uint32_t chains,
-                                   bool shading_normals) {
+                                   bool shading_normals, bool textures) {
   std::size_t tiles_per_side = bundle_tiles_per_side(bins + 1), tiles = tiles_per_side * tiles_per_side + 1;
   return slot_estimate(size, bins) * kSlotBytes + tiled_capacity(size, bins, chains) * tiled_fragment_bytes(chains) +
          tiles * 2 * sizeof(cl_uint) + size.patches * (4 * sizeof(cl_uint) + 2 * chains * sizeof(cl_float4)) +
          size.patches * 5 * sizeof(cl_float4) +  // the eye vertex's light samples and their Gouraud vertices (at most)
          size.elements * (sizeof(BundleElement) + 2 * sizeof(cl_uint)) +
          size.patches * 3 * (sizeof(cl_uint) + chains * sizeof(cl_float4)) +  // Gouraud vertices (at most 3 per patch)
-         pixels * (sizeof(EyeHit) + 2 * sizeof(cl_float4) + (shading_normals ? sizeof(cl_float4) : 0));
+         pixels * (sizeof(EyeHit) + 2 * sizeof(cl_float4) + (shading_normals ? sizeof(cl_float4) : 0) +
+                   (textures ? 3 * sizeof(cl_float4) : 0));
 }
 
 void check_bundle_memory(const DeviceInfo& device, const BundleSize& size, std::uint32_t bins, std::size_t pixels,
-                         std::uint32_t chains, bool shading_normals) {
-  const std::size_t need = estimate_bundle_memory(size, bins, pixels, chains, shading_normals);
+                         std::uint32_t chains, bool shading_normals, bool textures) {
+  const std::size_t need = estimate_bundle_memory(size, bins, pixels, chains, shading_normals, textures);
   const std::size_t largest = std::max(tiled_capacity(size, bins, chains) * chains * sizeof(cl_float4),
                                        slot_estimate(size, bins) * sizeof(cl_uint));
   // Leave a quarter of the device for the scene, the path tracer and the driver.
@@ -171,6 +172,8 @@ RayBundlePass::RayBundlePass(const DeviceContext& device, const DeviceScene& sce
   eye_hits_buffer_ = make_buffer(device, "eye hits", CL_MEM_READ_WRITE, pixel_count_ * sizeof(EyeHit));
   eye_normals_ = make_buffer(device, "eye hit shading normals", CL_MEM_READ_WRITE,
                              (scene.has_shading_normals ? pixel_count_ : 1) * sizeof(cl_float4));
+  eye_texels_ = make_buffer(device, "eye hit texels", CL_MEM_READ_WRITE,
+                            (scene.uv_slots > 0 ? 3 * pixel_count_ : 1) * sizeof(cl_float4));
   pixel_sum_ =
       make_buffer(device, "eye estimate sums", CL_MEM_READ_WRITE, pixel_count_ * eye_outputs_ * sizeof(cl_float4));
   device.queue.enqueueFillBuffer(e_in_, cl_float4{{0, 0, 0, 0}}, 0, patch_count_ * chains_ * sizeof(cl_float4));
@@ -248,10 +251,13 @@ void RayBundlePass::iterate(std::uint64_t iteration) {
   set_args(outgoing_, elements_, patch_element_, scene_.materials, e_in_, it, patches, l_out_, scene_.nodes,
            scene_.triangles, scene_.lights, scene_.light_cdf, cl_uint(settings_.seed ^ kLightSeedSalt),
            cl_uint(iteration), scene_.ray_epsilon, eye_light_, scene_.light_tree, scene_.light_receivers,
-           cl_uint(scene_.light_selection));
+           cl_uint(scene_.light_selection), scene_.patch_materials, cl_uint(scene_.uv_slots), scene_.texture_views,
+           scene_.texels, scene_.material_textures, scene_.texcoords, scene_.shading, cl_uint(scene_.alpha_masks));
   launcher_.launch("rb_outgoing", outgoing_, patch_count_, 64);
 
-  set_args(emit_, elements_, it, elements, slot_start_, fragment_counts_, fragment_key_, fragment_depth_, tile_counts_);
+  set_args(emit_, elements_, it, elements, slot_start_, fragment_counts_, fragment_key_, fragment_depth_, tile_counts_,
+           cl_uint(scene_.alpha_masks), scene_.element_triangle, scene_.shading, scene_.texture_views, scene_.texels,
+           scene_.material_textures, scene_.texcoords, cl_uint(scene_.uv_slots));
   launcher_.launch("rb_emit", emit_, element_count_, 64);
   scan_.exclusive(launcher_, tile_counts_, tile_count_, tile_start_);
   if (!static_capacity_) {  // the tiled buffers hold what this iteration needs, not every slot: check
@@ -264,11 +270,12 @@ void RayBundlePass::iterate(std::uint64_t iteration) {
   launcher_.launch("rb_tile_scatter", tile_scatter_, element_count_, 64);
   set_args(tile_resolve_, elements_, scene_.materials, tile_start_, tiled_local_, tiled_depth_, tiled_element_,
            tile_order_, l_out_, it, as_uint(tile_count_), received_minus_, received_plus_, fragment_total_,
-           scene_.lights, scene_.light_cdf, scene_.light_tree, scene_.light_receivers, cl_uint(scene_.light_selection));
+           scene_.lights, scene_.light_cdf, scene_.light_tree, scene_.light_receivers, cl_uint(scene_.light_selection),
+           scene_.patch_materials, cl_uint(scene_.uv_slots));
   launcher_.launch("rb_tile_resolve", tile_resolve_, tile_count_, 8);
 
   set_args(gather_, elements_, slot_start_, fragment_counts_, tiled_at_, received_minus_, received_plus_, it, elements,
-           e_in_);
+           e_in_, cl_uint(scene_.alpha_masks), scene_.element_coverage);
   launcher_.launch("rb_gather", gather_, element_count_, 64);
 }
 
@@ -289,11 +296,12 @@ BatchCounts RayBundlePass::run(std::uint64_t first, std::uint32_t count) {
     const BundleIteration it = iteration_params(iteration);
     if (settings_.gouraud) {
       set_args(vertex_, vertex_patch_start_, vertex_patches_, elements_, patch_element_, e_in_, it,
-               as_uint(vertex_count_), e_vertex_, eye_light_);
+               as_uint(vertex_count_), e_vertex_, eye_light_, cl_uint(scene_.alpha_masks), scene_.element_coverage);
       launcher_.launch("rb_vertex", vertex_, vertex_count_, 64);
     }
     set_args(eye_, eye_hits_buffer_, elements_, patch_element_, scene_.materials, e_in_, patch_vertices_, e_vertex_,
-             cl_uint(settings_.gouraud ? 1 : 0), it, as_uint(pixel_count_), pixel_sum_, eye_light_, eye_normals_);
+             cl_uint(settings_.gouraud ? 1 : 0), it, as_uint(pixel_count_), pixel_sum_, eye_light_, eye_normals_,
+             scene_.patch_materials, cl_uint(scene_.uv_slots), eye_texels_);
     launcher_.launch("rb_eye", eye_, pixel_count_, 64);
     // The device sums the eye estimates in float: move them to the host's double sums after every
     // max_batch() iterations (on multiples of it, wherever a batch starts) and at the batch's end, so
@@ -341,7 +349,9 @@ std::vector<T> read_all(const DeviceContext& device, Launcher& launcher, const c
 void RayBundlePass::trace_eye_hits(std::uint64_t jitter_index) {
   set_args(eye_hits_, scene_.nodes, scene_.triangles, scene_.shading, scene_.materials, camera_,
            cl_uint(settings_.seed ^ 0x5eed0e7eu), cl_uint(jitter_index), eye_hits_buffer_, scene_.shading_normals,
-           cl_uint(scene_.has_shading_normals), eye_normals_);
+           cl_uint(scene_.has_shading_normals), eye_normals_, cl_uint(scene_.uv_slots), scene_.texture_views,
+           scene_.texels, scene_.material_textures, scene_.texcoords, eye_texels_, cl_uint(scene_.alpha_masks),
+           scene_.ray_epsilon);
   launcher_.launch("rb_eye_hits", eye_hits_, pixel_count_, 64);
 }
 

@@ -65,13 +65,14 @@ double expected_fragments(const BundleSize& size, std::uint32_t bins);
 std::uint32_t bundle_chains(const RayBundleSettings& settings);
 
 // Device memory the pass will allocate (host memory alike), for the check before allocating;
-// shading_normals: the scene has NORMAL corners (a shading normal per eye hit).
+// shading_normals: the scene has NORMAL corners (a shading normal per eye hit); textures: it has
+// textures (the texel material per eye hit).
 std::size_t estimate_bundle_memory(const BundleSize& size, std::uint32_t bins, std::size_t pixels,
-                                   std::uint32_t chains = 1, bool shading_normals = false);
+                                   std::uint32_t chains = 1, bool shading_normals = false, bool textures = false);
 
 // Throws std::invalid_argument naming --bins / --patch-size when the estimate does not fit the device.
 void check_bundle_memory(const DeviceInfo& device, const BundleSize& size, std::uint32_t bins, std::size_t pixels,
-                         std::uint32_t chains = 1, bool shading_normals = false);
+                         std::uint32_t chains = 1, bool shading_normals = false, bool textures = false);
 
 class RayBundlePass : public ProgressivePass {
  public:
@@ -134,7 +135,8 @@ class RayBundlePass : public ProgressivePass {
   cl::Kernel outgoing_, emit_, tile_scatter_, tile_resolve_, gather_, eye_hits_, vertex_, eye_;
   cl::Buffer elements_, patch_element_, e_in_, l_out_;
   cl::Buffer eye_light_;  // per patch: its light sample weighted for the eye vertex, and its direction
-  cl::Buffer eye_normals_;  // per pixel: the eye hit's shading normal (scenes with NORMAL; else one entry)
+  cl::Buffer eye_normals_;
+  cl::Buffer eye_texels_;  // per pixel: the eye hit's texel kd + shininess, ks + flag, emission (textures; else one entry)  // per pixel: the eye hit's shading normal (scenes with NORMAL; else one entry)
   // Fragments in per-element slots (slot_start: raster_fragment_bound of them per element).
   cl::Buffer slot_start_, fragment_counts_, fragment_key_, fragment_depth_, tiled_at_, fragment_total_;
   std::size_t slot_count_ = 0;

@@ -55,6 +55,13 @@ void open_devices(RenderState& s) {
                        std::to_string(s.scene.patches.patch_count) + " receiving patches, more than " +
                        info.device_name + " offers (at most " + std::to_string(info.max_alloc_bytes >> 20) +
                        " MiB per buffer): raise --patch-size or use --light-selection power");
+  // All textures' texels are one buffer: refused before anything is built when it cannot fit a device.
+  const std::size_t texel_bytes = s.scene.scene.has_textures() ? s.scene.scene.texels.size() * sizeof(std::uint32_t) : 0;
+  for (const DeviceInfo& info : infos)
+    if (texel_bytes > info.max_alloc_bytes || texel_bytes > info.global_memory_bytes / 4)
+      throw UsageError("the scene's textures need " + std::to_string(texel_bytes >> 20) + " MiB, more than " +
+                       info.device_name + " offers (at most " + std::to_string(info.max_alloc_bytes >> 20) +
+                       " MiB per buffer)");
   for (const DeviceInfo& info : infos)
     s.devices.push_back(std::make_unique<RenderDevice>(info, s.scene,
                                                        light_tree ? BP_LIGHT_SELECTION_TREE : BP_LIGHT_SELECTION_POWER));
@@ -124,7 +131,7 @@ void build_passes(RenderState& s) {
     rb.keep_raw = o.all_layers;
     try {
       check_bundle_memory(s.rb_device().context.info, size, rb.bins, std::size_t(width) * height, bundle_chains(rb),
-                          scene.has_shading_normals());
+                          scene.has_shading_normals(), scene.has_textures());
     } catch (const std::invalid_argument& e) {
       throw UsageError(e.what());
     }

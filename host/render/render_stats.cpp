@@ -77,7 +77,7 @@ void add_ray_bundle_stats(const RenderState& s, const RenderResult& r, nlohmann:
   stats["fragments_per_second"] = outcome.seconds > 0 ? double(outcome.fragments) / outcome.seconds : 0.0;
   stats["rb_device_bytes_estimate"] =
       estimate_bundle_memory(bundle_size(scene, s.scene.patches), s.rb->bins(), pixels, bundle_chains(s.rb_settings),
-                             scene.has_shading_normals());
+                             scene.has_shading_normals(), scene.has_textures());
   stats["rb_chains"] = bundle_chains(s.rb_settings);
 }
 
@@ -120,7 +120,8 @@ nlohmann::json render_stats(const RenderState& s, const RenderResult& r) {
   stats["triangles"] = s.scene.scene.triangles.size();
   stats["patches"] = s.scene.patches.patch_count;
   stats["patch_size"] = s.scene.patch_size;
-  stats["scene_device_bytes"] = device_scene.bytes;  // BVH, shading, materials, lights, light tree, receivers
+  stats["scene_device_bytes"] = device_scene.bytes;  // BVH, shading, materials, lights, light tree, receivers, textures
+  stats["texture_device_bytes"] = device_scene.texture_bytes;  // texels, views, texcoords, patch means
   stats["load_seconds"] = s.scene.load_seconds;
   stats["bvh_build_seconds"] = s.scene.bvh_seconds;
   add_pass_stats(s, stats);

@@ -2,6 +2,7 @@
 // tinygltf 2.7 trusts them. Every failure is one SceneError line "<path>: <object> <problem>".
 #include "scene/gltf_loader.h"
 
+#include "scene/textures.h"
 #include "scene/tinygltf.h"
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -89,9 +90,12 @@ bool all_finite(const glm::dmat4& m) {
   return true;
 }
 
-// Image data is never used; accept every image without decoding it.
-bool ignore_image(tinygltf::Image*, const int, std::string*, std::string*, int, int,
-                  const unsigned char*, int, void*) {
+// tinygltf hands over the encoded bytes of data: URI and buffer-view images; keep them undecoded
+// in image->image. The loader decodes only the images a material uses (Loader::image_texels).
+bool keep_image_bytes(tinygltf::Image* image, const int, std::string*, std::string*, int, int,
+                      const unsigned char* bytes, int size, void*) {
+  image->image.assign(bytes, bytes + size);
+  image->width = image->height = 0;
   return true;
 }
 
@@ -100,6 +104,7 @@ struct LocalTriangle {
   std::uint32_t material;
   bool has_normals = false;
   glm::vec3 normal[3]{};  // NORMAL, local space
+  glm::vec2 uv[BP_MAX_UV_SLOTS][3]{};  // TEXCOORD_n of the material's uv slots
 };
 
 class Loader {
@@ -131,7 +136,7 @@ class Loader {
     const std::string base_dir = base_dir_.value_or("");
 
     tinygltf::TinyGLTF reader;
-    reader.SetImageLoader(&ignore_image, nullptr);
+    reader.SetImageLoader(&keep_image_bytes, nullptr);
     std::string err, warn;
     bool ok = false;
     if (binary) {
@@ -410,16 +415,175 @@ class Loader {
     return it == ext.end() ? nullptr : member(it->second, key);
   }
 
+  // ------------------------------------------------------------------ textures
+
+  // The encoded bytes of image `i`: its buffer view, data: URI (both kept by keep_image_bytes), or
+  // the file its uri names beside the asset (the buffers' folder rule).
+  std::vector<unsigned char> image_bytes(int i, const std::string& obj) const {
+    const auto& image = model_.images[i];
+    if (image.bufferView >= 0) {
+      const unsigned char* p = view_bytes(image.bufferView, obj);
+      return std::vector<unsigned char>(p, p + model_.bufferViews[image.bufferView].byteLength);
+    }
+    if (!image.image.empty() || image.uri.empty()) return image.image;
+    if (!uri_stays_inside(image.uri))
+      fail(obj + " uri \"" + image.uri + "\" leaves the asset's folder (only relative paths inside it are allowed)");
+    if (!base_dir_) fail(obj + " uri \"" + image.uri + "\" is an external file, which in-memory input cannot refer to");
+    const std::filesystem::path file = std::filesystem::path(*base_dir_) / percent_decode(image.uri);
+    std::ifstream in(file, std::ios::binary);
+    if (!in) fail(obj + " uri \"" + image.uri + "\" names no readable file in " + *base_dir_);
+    std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (in.bad()) fail(obj + " uri \"" + image.uri + "\": read error");
+    return bytes;
+  }
+
+  struct ImageTexels {
+    std::uint32_t first = 0, width = 0, height = 0;
+  };
+
+  // Image `i` decoded into the scene's texel buffer, once however many textures use it.
+  ImageTexels image_texels(int i, const std::string& user) {
+    if (i < 0 || std::size_t(i) >= model_.images.size())
+      fail(user + " refers to image " + std::to_string(i) + ", but the file has " +
+           std::to_string(model_.images.size()) + " images");
+    if (auto found = decoded_images_.find(i); found != decoded_images_.end()) return found->second;
+    const auto& image = model_.images[i];
+    std::string obj = "image " + std::to_string(i) + quoted(image.name);
+    if (!image.uri.empty() && image.uri.rfind("data:", 0) != 0) obj += " (\"" + image.uri + "\")";
+    const std::vector<unsigned char> bytes = image_bytes(i, obj);
+    std::string error;
+    const auto decoded = decode_image(bytes.data(), bytes.size(), &error);
+    if (!decoded) fail(obj + " " + error);
+    const std::uint64_t total = std::uint64_t(scene_.texels.size()) + decoded->rgba.size();
+    if (total > kMaxSceneTexels)
+      fail(obj + " brings the scene's textures to " + std::to_string(total) + " texels, beyond the limit of " +
+           std::to_string(kMaxSceneTexels));
+    ImageTexels t{std::uint32_t(scene_.texels.size()), std::uint32_t(decoded->width), std::uint32_t(decoded->height)};
+    scene_.texels.insert(scene_.texels.end(), decoded->rgba.begin(), decoded->rgba.end());
+    return decoded_images_.emplace(i, t).first->second;
+  }
+
+  static const tinygltf::Value* number_pair(const tinygltf::Value* v) {
+    return v && v->IsArray() && v->ArrayLen() == 2 && v->Get(0).IsNumber() && v->Get(1).IsNumber() ? v : nullptr;
+  }
+
+  // The view of textureInfo `info` (used as `slot_name` of material `mat`), its texcoord set added
+  // to the material's uv sets; BP_NO_TEXTURE when there is no texture or its image is in a format
+  // we cannot read (a warning).
+  std::uint32_t texture_view(const tinygltf::TextureInfo& info, const std::string& obj, bool srgb,
+                             std::vector<int>& uv_sets) {
+    if (info.index == -1) return BP_NO_TEXTURE;
+    if (info.index < 0 || std::size_t(info.index) >= model_.textures.size())
+      fail(obj + " refers to texture " + std::to_string(info.index) + ", but the file has " +
+           std::to_string(model_.textures.size()) + " textures");
+    const auto& texture = model_.textures[info.index];
+    const std::string tex_obj = obj + " (texture " + std::to_string(info.index) + ")";
+    if (texture.source == -1) {
+      scene_.warnings.push_back(tex_obj + " has no PNG or JPEG source; ignored");
+      return BP_NO_TEXTURE;
+    }
+    const ImageTexels image = image_texels(texture.source, tex_obj);
+    TextureView view{};
+    view.first_texel = image.first;
+    view.width = image.width;
+    view.height = image.height;
+    std::uint32_t wrap_s = BP_WRAP_REPEAT, wrap_t = BP_WRAP_REPEAT;
+    if (texture.sampler != -1) {
+      if (texture.sampler < 0 || std::size_t(texture.sampler) >= model_.samplers.size())
+        fail(tex_obj + " refers to sampler " + std::to_string(texture.sampler) + ", but the file has " +
+             std::to_string(model_.samplers.size()) + " samplers");
+      const auto& sampler = model_.samplers[texture.sampler];
+      const auto s = wrap_mode_from_gltf(sampler.wrapS), t = wrap_mode_from_gltf(sampler.wrapT);
+      if (!s || !t)
+        fail("sampler " + std::to_string(texture.sampler) + " has wrap modes " + std::to_string(sampler.wrapS) +
+             ", " + std::to_string(sampler.wrapT) + " (glTF allows 10497, 33071, 33648)");
+      wrap_s = *s;
+      wrap_t = *t;
+      if (sampler.magFilter == 9728) view.flags |= BP_TEXTURE_NEAREST;  // NEAREST
+    }
+    view.flags |= wrap_s | wrap_t << BP_TEXTURE_WRAP_T_SHIFT | (srgb ? BP_TEXTURE_SRGB : 0u);
+    int set = info.texCoord;
+    texture_transform(0.0f, 0.0f, 0.0f, 1.0f, 1.0f, view.transform);
+    if (auto ext = info.extensions.find("KHR_texture_transform"); ext != info.extensions.end()) {
+      const tinygltf::Value& x = ext->second;
+      const std::string where = obj + " KHR_texture_transform";
+      const auto* offset = member(x, "offset");
+      const auto* scale = member(x, "scale");
+      const auto* rotation = member(x, "rotation");
+      const auto* tc = member(x, "texCoord");
+      if ((offset && !number_pair(offset)) || (scale && !number_pair(scale)) || (rotation && !rotation->IsNumber()) ||
+          (tc && !tc->IsInt()))
+        fail(where + " is malformed (offset and scale: 2 numbers, rotation: a number, texCoord: an integer)");
+      auto num = [](const tinygltf::Value* v, int i, double fallback) {
+        return v ? (i < 0 ? v->GetNumberAsDouble() : v->Get(i).GetNumberAsDouble()) : fallback;
+      };
+      texture_transform(float(num(offset, 0, 0.0)), float(num(offset, 1, 0.0)), float(num(rotation, -1, 0.0)),
+                        float(num(scale, 0, 1.0)), float(num(scale, 1, 1.0)), view.transform);
+      for (float f : view.transform)
+        if (!std::isfinite(f)) fail(where + " is not finite");
+      if (tc) set = tc->GetNumberAsInt();
+    }
+    if (set < 0) fail(obj + " has texCoord " + std::to_string(set));
+    auto slot = std::find(uv_sets.begin(), uv_sets.end(), set);
+    if (slot == uv_sets.end()) {
+      if (uv_sets.size() == BP_MAX_UV_SLOTS)
+        fail(obj + " reads TEXCOORD_" + std::to_string(set) + ", but its material already reads " +
+             std::to_string(BP_MAX_UV_SLOTS) + " texcoord sets (the most supported)");
+      uv_sets.push_back(set);
+      slot = uv_sets.end() - 1;
+    }
+    view.uv_slot = std::uint32_t(slot - uv_sets.begin());
+    scene_.texture_views.push_back(view);
+    return std::uint32_t(scene_.texture_views.size() - 1);
+  }
+
+  // Core glTF's textures of material `m` into out.textures, with the factors they multiply.
+  void read_textures(const tinygltf::Material& m, const std::string& obj, float metallic, float roughness,
+                     const glm::vec3& specular_f0, SceneMaterial& out) {
+    const auto& pbr = m.pbrMetallicRoughness;
+    MaterialTextures& t = out.textures;
+    std::vector<int> uv_sets;
+    t.base_color = texture_view(pbr.baseColorTexture, obj + " baseColorTexture", true, uv_sets);
+    t.metallic_roughness = texture_view(pbr.metallicRoughnessTexture, obj + " metallicRoughnessTexture", false, uv_sets);
+    t.emissive = texture_view(m.emissiveTexture, obj + " emissiveTexture", true, uv_sets);
+    for (int c = 0; c < 4; ++c) t.base_color_factor[c] = pbr.baseColorFactor.size() == 4 ? float(pbr.baseColorFactor[c]) : 1.0f;
+    for (int c = 0; c < 3; ++c) {
+      t.emissive_factor[c] = out.emission[c];
+      t.specular_f0[c] = specular_f0[c];
+    }
+    t.metallic_factor = metallic;
+    t.roughness_factor = roughness;
+    // alphaMode MASK (DESIGN.md §6): where alpha (factor x texel) is below the cutoff there is no surface
+    bool cut_away = false;
+    if (m.alphaMode == "MASK") {
+      const double cutoff = m.alphaCutoff;
+      if (!(cutoff >= 0.0 && std::isfinite(cutoff))) fail(obj + " has alphaCutoff " + std::to_string(cutoff));
+      if (t.base_color != BP_NO_TEXTURE)
+        t.alpha_cutoff = float(cutoff);
+      else
+        cut_away = t.base_color_factor[3] < cutoff;  // the same alpha everywhere: all surface or none
+    } else if (m.alphaMode == "BLEND") {
+      scene_.warnings.push_back(obj + " has alphaMode BLEND; rendered opaque");
+    }
+    material_cut_away_.push_back(cut_away);
+    material_uv_sets_.push_back(out.textured() ? uv_sets : std::vector<int>{});
+    scene_.uv_slots = std::max(scene_.uv_slots, std::uint32_t(material_uv_sets_.back().size()));
+  }
+
   void read_materials() {
     SceneMaterial fallback;
     fallback.name = "default";  // kd 0.8 grey Lambert, for primitives without a material
     scene_.materials.push_back(fallback);
+    material_uv_sets_.emplace_back();
+    material_cut_away_.push_back(false);
     for (std::size_t i = 0; i < model_.materials.size(); ++i) {
       const auto& m = model_.materials[i];
       const std::string obj = "material " + std::to_string(i) + quoted(m.name);
       SceneMaterial out;
       out.name = m.name.empty() ? "material " + std::to_string(i) : m.name;
       out.double_sided = m.doubleSided;
+      bool pbr_material = false;
+      glm::vec3 specular_f0(0.0f);
       if (const auto* phong = member(m.extras, "phong")) {
         const auto* kd = member(*phong, "kd");
         const auto* ks = member(*phong, "ks");
@@ -441,12 +605,15 @@ class Loader {
         const auto* scf = extension(m.extensions, "KHR_materials_specular", "specularColorFactor");
         const glm::vec3 specular_colour =
             scf ? rgb(*scf, obj + " KHR_materials_specular.specularColorFactor") : glm::vec3(1.0f);
-        out.kd = base * (1.0f - metallic);
         // KHR_materials_specular: the dielectric F0 is 0.04 specularFactor specularColorFactor
-        out.ks = metallic * base + (1.0f - metallic) * 0.04f * specular * specular_colour;
-        const double a = double(pbr.roughnessFactor) * pbr.roughnessFactor;
-        const double n = a > 0.0 ? 2.0 / (a * a) - 2.0 : 1e6;
-        out.shininess = float(std::clamp(n, 0.0, 1e6));
+        specular_f0 = 0.04f * specular * specular_colour;
+        float3 kd, ks;
+        phong_from_metallic_roughness(make_float3(base.x, base.y, base.z), metallic,
+                                      make_float3(specular_f0.x, specular_f0.y, specular_f0.z), &kd, &ks);
+        out.kd = glm::vec3(kd.x, kd.y, kd.z);
+        out.ks = glm::vec3(ks.x, ks.y, ks.z);
+        out.shininess = phong_shininess_from_roughness(float(pbr.roughnessFactor));
+        pbr_material = true;
       }
       float strength = 1.0f;
       if (const auto* s = extension(m.extensions, "KHR_materials_emissive_strength", "emissiveStrength")) {
@@ -464,6 +631,16 @@ class Loader {
       }
       if (!std::isfinite(out.shininess) || out.shininess < 0.0f)
         fail(obj + " has a negative or non-finite shininess");
+      if (pbr_material) {
+        read_textures(m, obj, float(m.pbrMetallicRoughness.metallicFactor), float(m.pbrMetallicRoughness.roughnessFactor),
+                      specular_f0, out);
+      } else {
+        material_uv_sets_.emplace_back();
+        material_cut_away_.push_back(false);
+        if (m.pbrMetallicRoughness.baseColorTexture.index >= 0 || m.emissiveTexture.index >= 0 ||
+            m.pbrMetallicRoughness.metallicRoughnessTexture.index >= 0)
+          scene_.warnings.push_back(obj + ": extras.phong wins; its textures are ignored");
+      }
       const float max_albedo = bp_max(out.kd + out.ks);
       if (max_albedo > 1.0f) {  // DESIGN.md §6: max(kd + ks) <= 1
         out.kd /= max_albedo;
@@ -485,6 +662,45 @@ class Loader {
                                    {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
                                     TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT});
     return std::vector<std::uint32_t>(raw.begin(), raw.end());
+  }
+
+  // TEXCOORD_n of a primitive for each of its material's uv sets (glTF: VEC2 of float, or of
+  // normalized unsigned byte or short), one per POSITION; a set the primitive lacks reads (0, 0).
+  std::vector<std::vector<glm::vec2>> read_texcoords(const tinygltf::Primitive& prim, const std::string& obj,
+                                                     const std::vector<int>& sets, std::size_t vertices) {
+    std::vector<std::vector<glm::vec2>> out;
+    for (int set : sets) {
+      const std::string name = "TEXCOORD_" + std::to_string(set);
+      auto it = prim.attributes.find(name);
+      if (it == prim.attributes.end()) {
+        ++missing_texcoords_;
+        out.emplace_back(vertices, glm::vec2(0.0f));
+        continue;
+      }
+      const std::string role = name + " of " + obj;
+      const auto raw = read_accessor(it->second, role, TINYGLTF_TYPE_VEC2,
+                                     {TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
+                                      TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT});
+      const auto& acc = model_.accessors[it->second];
+      double scale = 1.0;
+      if (acc.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT) {
+        if (!acc.normalized)
+          fail(accessor_name(it->second, role) + " has integer components that are not normalized (glTF needs "
+                                                 "float or normalized unsigned byte or short texcoords)");
+        scale = acc.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ? 1.0 / 255.0 : 1.0 / 65535.0;
+      }
+      if (raw.size() != 2 * vertices)
+        fail(accessor_name(it->second, role) + " has " + std::to_string(raw.size() / 2) + " elements, but POSITION has " +
+             std::to_string(vertices));
+      std::vector<glm::vec2> uv(vertices);
+      for (std::size_t i = 0; i < vertices; ++i) {
+        uv[i] = glm::vec2(float(raw[2 * i] * scale), float(raw[2 * i + 1] * scale));
+        if (!std::isfinite(uv[i].x) || !std::isfinite(uv[i].y))
+          fail(accessor_name(it->second, role) + " holds a non-finite texcoord at element " + std::to_string(i));
+      }
+      out.push_back(std::move(uv));
+    }
+    return out;
   }
 
   // The triangles of mesh `m` in its local space (read once, reused by every node instancing it).
@@ -540,6 +756,7 @@ class Loader {
                  std::to_string(i));
         }
       }
+      const std::vector<std::vector<glm::vec2>> uvs = read_texcoords(prim, obj, material_uv_sets_[material], pos.size());
       std::vector<std::uint32_t> idx;
       if (prim.indices >= 0) {
         const std::string role = "indices of " + obj;
@@ -559,6 +776,11 @@ class Loader {
           t.normal[0] = normals[a];
           t.normal[1] = normals[b];
           t.normal[2] = normals[c];
+        }
+        for (std::size_t slot = 0; slot < uvs.size(); ++slot) {
+          t.uv[slot][0] = uvs[slot][a];
+          t.uv[slot][1] = uvs[slot][b];
+          t.uv[slot][2] = uvs[slot][c];
         }
         tris.push_back(t);
       };
@@ -694,8 +916,16 @@ class Loader {
     const bool flip = glm::determinant(glm::dmat3(world)) < 0.0;  // mirrored: keep fronts in front
     const glm::dmat3 normal_matrix = glm::transpose(glm::inverse(glm::dmat3(world)));  // normals: inverse transpose
     for (const LocalTriangle& t : mesh_triangles(node.mesh)) {
+      if (material_cut_away_[t.material]) {  // alphaMode MASK cuts all of it away
+        ++cut_away_;
+        continue;
+      }
       SceneTriangle out;
       for (int k = 0; k < 3; ++k) out.p[k] = glm::vec3(world * glm::dvec4(glm::dvec3(t.p[k]), 1.0));
+      for (std::uint32_t slot = 0; slot < BP_MAX_UV_SLOTS; ++slot)
+        for (int k = 0; k < 3; ++k) out.uv[slot][k] = t.uv[slot][k];
+      if (flip)
+        for (auto& uv : out.uv) std::swap(uv[1], uv[2]);
       if (t.has_normals) {
         out.has_normals = true;
         for (int k = 0; k < 3; ++k) {
@@ -820,6 +1050,12 @@ class Loader {
     if (zero_normals_)
       scene_.warnings.push_back(std::to_string(zero_normals_) +
                                 " triangle corner(s) have a zero NORMAL; the flat normal is used there");
+    if (cut_away_)
+      scene_.warnings.push_back("dropped " + std::to_string(cut_away_) +
+                                " triangle(s) whose alphaMode MASK material is below its alphaCutoff everywhere");
+    if (missing_texcoords_)
+      scene_.warnings.push_back(std::to_string(missing_texcoords_) +
+                                " textured primitive(s) lack the TEXCOORD set their material reads; it reads (0, 0) there");
     if (scene_.triangles.empty()) fail("scene has no triangles");
     for (const auto& t : scene_.triangles)
       for (const auto& p : t.p) scene_.bounds.grow(p);
@@ -843,8 +1079,12 @@ class Loader {
   tinygltf::Model model_;
   Scene scene_;
   std::map<int, std::vector<LocalTriangle>> mesh_cache_;
+  std::map<int, ImageTexels> decoded_images_;
+  std::vector<std::vector<int>> material_uv_sets_;
+  std::vector<bool> material_cut_away_;  // per scene material: alphaMode MASK with a constant alpha below the cutoff  // per scene material: the glTF TEXCOORD sets of its uv slots
   std::map<int, std::size_t> skipped_modes_;
-  std::size_t primitives_without_position_ = 0, ragged_triangle_lists_ = 0, degenerate_ = 0, zero_normals_ = 0;
+  std::size_t primitives_without_position_ = 0, ragged_triangle_lists_ = 0, degenerate_ = 0, zero_normals_ = 0,
+              missing_texcoords_ = 0, cut_away_ = 0;
   bool camera_found_ = false;
 };
 

@@ -38,6 +38,7 @@ LightList build_light_list(const Scene& scene) {
     store3(l.axis, glm::normalize(c));
     l.area = 0.5f * glm::length(c);
     l.material = t.material;
+    l.triangle = std::uint32_t(i);
     out.lights.push_back(l);
     power.push_back(exitance[t.material] * double(l.area));
   }

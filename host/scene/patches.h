@@ -39,9 +39,12 @@ struct SubTriangle {
   bool double_sided;           // a back patch at first_patch + k^2 + local beside the front one
 };
 
-// Calls visit(const SubTriangle&) for every sub-triangle, triangle by triangle in patch order.
-template <class Visit> void for_each_sub_triangle(const Scene& scene, const PatchLayout& patches, Visit&& visit) {
-  for (std::size_t t = 0; t < scene.triangles.size(); ++t) {
+// Calls visit(const SubTriangle&) for every sub-triangle, triangle by triangle in patch order (of
+// the triangles in [first, last) only, where given).
+template <class Visit>
+void for_each_sub_triangle(const Scene& scene, const PatchLayout& patches, Visit&& visit, std::size_t first = 0,
+                           std::size_t last = SIZE_MAX) {
+  for (std::size_t t = first; t < scene.triangles.size() && t < last; ++t) {
     const SceneTriangle& tri = scene.triangles[t];
     SubTriangle sub{};
     sub.triangle = t;

@@ -15,4 +15,22 @@ bool Scene::has_shading_normals() const {
   return std::any_of(triangles.begin(), triangles.end(), [](const SceneTriangle& t) { return t.has_normals; });
 }
 
+bool Scene::has_textures() const {
+  return std::any_of(materials.begin(), materials.end(), [](const SceneMaterial& m) { return m.textured(); });
+}
+
+bool Scene::has_alpha_masks() const {
+  return std::any_of(materials.begin(), materials.end(),
+                     [](const SceneMaterial& m) { return m.textured() && m.textures.alpha_cutoff > 0.0f; });
+}
+
+MaterialTextures SceneMaterial::untextured() {
+  MaterialTextures t{};
+  t.base_color = t.metallic_roughness = t.emissive = BP_NO_TEXTURE;
+  t.alpha_cutoff = 0.0f;
+  for (float& c : t.base_color_factor) c = 1.0f;
+  t.metallic_factor = t.roughness_factor = 1.0f;
+  return t;
+}
+
 }  // namespace bp

@@ -1,5 +1,6 @@
 // The scene as the renderer sees it, independent of file format and of OpenCL.
 #pragma once
+#include "kernels/shared/texture.h"
 #include <glm/glm.hpp>
 #include <cstdint>
 #include <limits>
@@ -16,6 +17,11 @@ struct SceneMaterial {
   float shininess = 1.0f;      // Phong exponent n
   glm::vec3 emission{0.0f};    // radiance Le, W sr^-1 m^-2 (front side; both if double_sided)
   bool double_sided = false;
+  // glTF textures and the factors they multiply (kernels/shared/texture.h); kd, ks, shininess and
+  // emission above are the factors' values, what the material is where no texture says otherwise.
+  MaterialTextures textures = untextured();
+  bool textured() const { return material_is_textured(&textures); }
+  static MaterialTextures untextured();
 };
 
 struct SceneTriangle {
@@ -24,6 +30,8 @@ struct SceneTriangle {
   // glTF NORMAL at the corners, world space, unit, front side; interpolated for shading (DESIGN.md §6)
   bool has_normals = false;
   glm::vec3 normal[3]{};
+  // TEXCOORD corners of the texcoord sets the material's textures read (TextureView::uv_slot)
+  glm::vec2 uv[BP_MAX_UV_SLOTS][3]{};
 };
 
 // A KHR_lights_punctual light. glTF gives intensity in candela (point, spot) or lux (directional);
@@ -62,12 +70,19 @@ struct Scene {
   std::vector<SceneTriangle> triangles;
   std::vector<SceneMaterial> materials;  // index 0: the default material; file material i is at i + 1
   std::vector<ScenePunctualLight> lights;
+  // Textures: every image's RGBA8 texels (kernels/shared/texture.h), and one view per use of an
+  // image by a material (TextureView::first_texel indexes texels).
+  std::vector<std::uint32_t> texels;
+  std::vector<TextureView> texture_views;
+  std::uint32_t uv_slots = 0;            // texcoord sets per triangle that textures read (<= BP_MAX_UV_SLOTS)
   glm::vec3 environment{0.0f};           // uniform radiance of every direction that leaves the scene, W sr^-1 m^-2
   SceneCamera camera;
   Bounds bounds;
   std::vector<std::string> warnings;     // things the loader accepted but a user should know
   std::size_t emissive_triangles() const;
   bool has_shading_normals() const;      // some triangle has NORMAL corners
+  bool has_textures() const;             // some material has a texture
+  bool has_alpha_masks() const;          // some material has alphaMode MASK with a texture
   bool has_environment() const { return environment.x > 0.0f || environment.y > 0.0f || environment.z > 0.0f; }
   bool has_light() const { return emissive_triangles() > 0 || !lights.empty() || has_environment(); }
 };

@@ -1,6 +1,7 @@
 // tinygltf as every translation unit of the project includes it: the configuration macros change the
 // TinyGLTF class, so they are set here once (a unit that set them differently would break the ODR).
-// No stb: we never decode textures; the loader installs an image callback that ignores the bytes.
+// No stb here: the loader's image callback keeps the encoded bytes, and scene/textures.cpp decodes the
+// images materials use (and reads external image files itself, under the buffers' folder rule).
 #pragma once
 #define TINYGLTF_NO_STB_IMAGE
 #define TINYGLTF_NO_STB_IMAGE_WRITE

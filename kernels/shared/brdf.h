@@ -12,7 +12,8 @@ typedef struct {
   float3 kd;
   float3 ks;
   float3 emission;
-  float shininess;
+  float shininess;      // of the density (every weight input): the material's, or the patch's mean with textures
+  float shininess_f;    // of f: the texel's with textures (textured.h), else the same
   float p_diffuse;      // probability of sampling the diffuse lobe (by albedo)
   float continuation;   // Russian-roulette continuation probability s (material only, DESIGN.md §3)
   bp_u32 flags;
@@ -26,6 +27,7 @@ BP_FN Bsdf bsdf_from_material(BP_GLOBAL const Material* m) {
   b.ks = bp_load3(m->ks);
   b.emission = bp_load3(m->emission);
   b.shininess = m->shininess;
+  b.shininess_f = m->shininess;
   b.flags = m->flags;
   float albedo_d = bp_max3(b.kd), albedo_s = bp_max3(b.ks);
   float albedo = albedo_d + albedo_s;
@@ -63,7 +65,10 @@ BP_FN BsdfValue bsdf_evaluate(const Bsdf* b, float3 n, float3 wi, float3 wo) {
   }
   float cos_alpha = dot(reflect_about(wo, n), wi);  // the lobe is zero beyond 90 degrees, also for n = 0
   float lobe = cos_alpha > 0.0f ? pow_unit(fmin(cos_alpha, 1.0f), b->shininess) : 0.0f;
-  if (front) v.f += b->ks * ((b->shininess + 2.0f) * (0.5f * BP_INV_PI) * lobe);
+  float lobe_f = lobe;  // a textured hit's own exponent for f; its patch's for the density
+  if (BP_FEATURE_TEXTURES && b->shininess_f != b->shininess)
+    lobe_f = cos_alpha > 0.0f ? pow_unit(fmin(cos_alpha, 1.0f), b->shininess_f) : 0.0f;
+  if (front) v.f += b->ks * ((b->shininess_f + 2.0f) * (0.5f * BP_INV_PI) * lobe_f);
   // Phong lobe around the mirror direction: pdf_uv = (n+1) cos^n(alpha)   (DESIGN.md §2)
   v.pdf_uv = b->p_diffuse * pdf_uv_cosine(cos_theta) + (1.0f - b->p_diffuse) * ((b->shininess + 1.0f) * lobe);
   return v;

@@ -7,6 +7,7 @@
 #include "shared/compat.h"
 #include "shared/types.h"
 #include "shared/light_tree.h"
+#include "shared/texture.h"
 
 #define BP_LIGHT_TRIANGLE 0u
 #define BP_LIGHT_POINT 1u
@@ -32,6 +33,8 @@ typedef struct {
   float cos_inner;       // spot: cos of the inner cone angle (full intensity within)
   bp_u32 tree_trail[2];  // its leaf's path from the light tree's root: bit k set = second child at depth k
   bp_u32 tree_depth;     // the leaf's depth (0: the only light)
+  bp_u32 triangle;       // triangle: its scene triangle (texcoords of an emissive texture)
+  bp_u32 pad[3];
 } Light;
 
 // A light sample as seen from a shading point x.
@@ -77,6 +80,7 @@ typedef struct {
   BP_GLOBAL const LightReceiver* receivers;  // per patch
   bp_u32 count;
   bp_u32 selection;  // BP_LIGHT_SELECTION_*
+  TextureSet textures;  // emissive textures (uv_slots 0: none; light_set leaves it so)
 } LightSet;
 
 BP_FN LightSet light_set(BP_GLOBAL const Light* lights, BP_GLOBAL const float* cdf, BP_GLOBAL const LightTreeNode* tree,
@@ -88,6 +92,11 @@ BP_FN LightSet light_set(BP_GLOBAL const Light* lights, BP_GLOBAL const float* c
   s.receivers = receivers;
   s.count = count;
   s.selection = selection;
+  s.textures.views = 0;
+  s.textures.texels = 0;
+  s.textures.materials = 0;
+  s.textures.texcoords = 0;
+  s.textures.uv_slots = 0u;
   return s;
 }
 
@@ -208,8 +217,8 @@ BP_FN LightSample light_sample(const LightSet* set, BP_GLOBAL const Material* ma
   LightPick pick = light_select(set, receiver_patch, u_pick);
   BP_GLOBAL const Light* l = &set->lights[pick.light];
   float3 target = bp_load3(l->position);
-  if (l->type == BP_LIGHT_TRIANGLE) {
-    float root = sqrt(u1);  // uniform on the triangle: barycentrics (1 - sqrt u1, sqrt u1 (1 - u2), sqrt u1 u2)
+  float root = sqrt(u1);
+  if (l->type == BP_LIGHT_TRIANGLE) {  // uniform on the triangle: barycentrics (1 - sqrt u1, sqrt u1 (1 - u2), sqrt u1 u2)
     target += bp_load3(l->edge1) * (root * (1.0f - u2)) + bp_load3(l->edge2) * (root * u2);
   }
   float3 to_light = target - x;
@@ -229,7 +238,14 @@ BP_FN LightSample light_sample(const LightSet* set, BP_GLOBAL const Material* ma
     if (m->flags & BP_MATERIAL_DOUBLE_SIDED) cos_light = fabs(cos_light);
     float pdf_area = set->selection == BP_LIGHT_SELECTION_TREE ? pick.probability / l->area : m->light_pdf_area;
     s.pdf_uv = light_pdf_uv_area(pdf_area, s.distance, cos_light);
-    if (s.pdf_uv > 0.0f) s.radiance_over_pdf = bp_load3(m->emission) * (BP_TWO_PI / s.pdf_uv);  // L / p_solid
+    float3 le = bp_load3(m->emission);
+    if (BP_FEATURE_TEXTURES && set->textures.uv_slots > 0u) {  // an emissive texture's texel at the sampled point
+      le = texel_emission(&set->textures, l->material, l->triangle, root * (1.0f - u2), root * u2, le);
+      // where an alpha mask cuts the emitter away nothing emits (PT's rays pass there too)
+      if (!alpha_is_surface(&set->textures, l->material, l->triangle, root * (1.0f - u2), root * u2))
+        le = make_float3(0.0f, 0.0f, 0.0f);
+    }
+    if (s.pdf_uv > 0.0f) s.radiance_over_pdf = le * (BP_TWO_PI / s.pdf_uv);  // L / p_solid
   } else if (l->type == BP_LIGHT_DIRECTIONAL) {
     s.radiance_over_pdf = bp_load3(l->intensity) * (1.0f / pick.probability);  // E / P(select): L / p_solid of a delta
   } else {

@@ -56,7 +56,7 @@ typedef struct {
   bp_u32 eye_direct_shared;  // 1: the eye vertex's direct light is split with RB (eye_segment_weights)
   bp_u32 shading_normals;    // 1: the scene has NORMAL corners to interpolate (surface.h)
   float environment[3];      // uniform radiance where a ray leaves the scene (--environment), W sr^-1 m^-2
-  bp_u32 pad;
+  bp_u32 uv_slots;           // texcoord sets per triangle (kernels/shared/texture.h); 0: no textures
 } PathTraceParams;
 
 #define BP_WEIGHTS_NONE 0u

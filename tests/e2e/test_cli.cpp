@@ -278,6 +278,46 @@ TEST(Cli, MissingSceneFileExitsThreeNamingTheFile) {
   EXPECT_FALSE(fs::exists(dir + "/x.png"));
 }
 
+// Broken textures (issue #13): exit 3, one line naming the file and the object, nothing written.
+TEST(Cli, BadTexturesExitThreeNamingFileAndObjectWritingNothing) {
+  const std::string data = std::string(BP_SOURCE_DIR) + "/tests/data/gltf/bad/";
+  for (const auto& [file, object] : std::vector<std::pair<std::string, std::string>>{
+           {"texture-missing-image.gltf", "image 0"},
+           {"texture-undecodable.gltf", "image 0"},
+           {"texture-too-large.gltf", "beyond the limit"},
+           {"texcoord-unnormalized.gltf", "TEXCOORD_0"},
+           {"texcoord-type.gltf", "TEXCOORD_0"},
+           {"texture-index.gltf", "texture 5"}}) {
+    std::string dir = fresh_dir("bad_texture");
+    CliResult r = run_cli("render " + data + file + " --spp 1 --out " + dir + "/x");
+    EXPECT_EQ(r.exit_code, 3) << file << ": " << r.output;
+    EXPECT_NE(r.output.find(data + file + ": "), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find(object), std::string::npos) << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << "one line: " << r.output;
+    EXPECT_FALSE(fs::exists(dir + "/x.exr")) << file;
+    EXPECT_FALSE(fs::exists(dir + "/x.png")) << file;
+  }
+}
+
+// A textured scene builds its kernels with textures and reports their memory; an untextured one neither.
+TEST(Cli, TexturedSceneCountsItsTextureMemory) {
+  std::string dir = fresh_dir("textured");
+  const std::string quad = std::string(BP_SOURCE_DIR) + "/tests/data/gltf/good/textured-quad.gltf";
+  CliResult r = run_cli("render " + quad + " --mode combined --environment 1,1,1 --width 16 --height 16 --spp 2 --out " +
+                        dir + "/q --stats " + dir + "/s.json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  nlohmann::json stats = nlohmann::json::parse(std::ifstream(dir + "/s.json"));
+  EXPECT_NE(stats["kernel_options"].get<std::string>().find("BP_FEATURE_TEXTURES=1"), std::string::npos);
+  EXPECT_GE(stats["texture_device_bytes"].get<double>(), 16.0 * 4);  // 16 texels at least
+  EXPECT_GE(stats["scene_device_bytes"].get<double>(), stats["texture_device_bytes"].get<double>());
+  CliResult plain = run_cli("render " + kScenes + "cornell-box.gltf --width 16 --height 16 --spp 1 --out " + dir +
+                            "/c --stats " + dir + "/c.json");
+  ASSERT_EQ(plain.exit_code, 0) << plain.output;
+  nlohmann::json c = nlohmann::json::parse(std::ifstream(dir + "/c.json"));
+  EXPECT_NE(c["kernel_options"].get<std::string>().find("BP_FEATURE_TEXTURES=0"), std::string::npos);
+  EXPECT_EQ(c["texture_device_bytes"].get<double>(), 0.0);
+}
+
 TEST(Cli, NoOpenClPlatformExitsTwoNamingThePackage) {
   // The ICD loader finds no vendor in an empty directory: no platform at all.
   std::string dir = fresh_dir("no_platform");

@@ -241,7 +241,15 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"uri-parent.gltf", "buffer 0 uri"},
         BadCase{"uri-absolute.gltf", "buffer 0 uri"},
         BadCase{"uri-encoded-parent.gltf", "buffer 0 uri"},
-        BadCase{"missing-bin.gltf", "buffer 0 uri \"missing.bin\""}),
+        BadCase{"missing-bin.gltf", "buffer 0 uri \"missing.bin\""},
+        BadCase{"texture-missing-image.gltf", "image 0 (\"missing.png\") uri \"missing.png\" names no readable file"},
+        BadCase{"texture-undecodable.gltf", "image 0 is not a decodable PNG or JPEG"},
+        BadCase{"texture-too-large.gltf", "image 0 is 20000 x 4 texels, beyond the limit of 16384 per side"},
+        BadCase{"texcoord-unnormalized.gltf", "accessor 2 (TEXCOORD_0 of mesh 0 primitive 0) has integer components that "
+                                              "are not normalized"},
+        BadCase{"texcoord-type.gltf", "accessor 2 (TEXCOORD_0 of mesh 0 primitive 0) has type VEC3"},
+        BadCase{"texture-index.gltf", "material 0 \"textured\" baseColorTexture refers to texture 5"},
+        BadCase{"texture-image-index.gltf", "baseColorTexture (texture 0) refers to image 3"}),
     [](const auto& info) { return bp::test::test_name_from_file(info.param.file); });
 
 }  // namespace

@@ -10,6 +10,7 @@ import json
 import math
 import os
 import struct
+import zlib
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 OVERFLOW = 1.2345e300  # written as 1e400, which parses to infinity
@@ -114,6 +115,107 @@ def with_normals(normals, count=None, accessor_type="VEC3", component=5126):
     doc["buffers"][0]["byteLength"] = len(blob)
     doc["meshes"][0]["primitives"][0]["attributes"]["NORMAL"] = 2
     return doc, blob
+
+
+def png(width, height, rgba):
+    """An RGBA8 PNG of `rgba` (rows top to bottom, 4 bytes a texel), stdlib only."""
+    def chunk(kind, data):
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
+    rows = b"".join(b"\0" + bytes(rgba[y * width * 4:(y + 1) * width * 4]) for y in range(height))
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 6, 0, 0, 0)) +
+            chunk(b"IDAT", zlib.compress(rows)) + chunk(b"IEND", b""))
+
+
+# The textured quad's 4 x 4 texels (RGBA8, rows top to bottom): distinct colours, alpha 255 but the
+# top-right texel (alpha 64, for alphaMode MASK).
+QUAD_TEXELS = [(40 + 60 * x, 30 + 70 * y, 200 - 40 * x - 10 * y, 64 if (x, y) == (3, 0) else 255)
+               for y in range(4) for x in range(4)]
+
+
+def textured_quad(image, texcoords=None, component=5126, normalized=False, accessor_type="VEC2", texture_index=0,
+                  image_source=0, sampler=None):
+    """The unit quad (z = 0, facing +z) with TEXCOORD_0 (accessor 2; uv = (x, 1 - y), glTF's uv origin at
+    the image's top-left), a baseColorTexture of image 0 (`image`: the glTF image object), and a camera
+    1 m in front of it whose 90-degree view the quad fills exactly."""
+    doc, blob = quad_mesh_file()
+    uv = texcoords or [(0.0, 1.0), (1.0, 1.0), (1.0, 0.0), (0.0, 0.0)]
+    offset = len(blob)
+    fmt = {5126: "f", 5121: "B", 5123: "H"}[component]
+    for t in uv:
+        blob += struct.pack("<" + fmt * len(t), *t)
+    length = len(blob) - offset
+    blob += b"\0" * (-len(blob) % 4)
+    doc["bufferViews"].append({"buffer": 0, "byteOffset": offset, "byteLength": length})
+    acc = {"bufferView": 2, "componentType": component, "count": len(uv), "type": accessor_type}
+    if normalized:
+        acc["normalized"] = True
+    doc["accessors"].append(acc)
+    doc["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = 2
+    doc["materials"][0] = {"name": "textured", "pbrMetallicRoughness": {"baseColorTexture": {"index": texture_index},
+                                                                        "metallicFactor": 0},
+                           "extensions": {"KHR_materials_specular": {"specularFactor": 0}}}
+    doc["extensionsUsed"] = ["KHR_materials_specular"]
+    doc["textures"] = [{"source": image_source, "sampler": 0}]
+    doc["samplers"] = [sampler or {"magFilter": 9728, "minFilter": 9728, "wrapS": 33071, "wrapT": 33071}]
+    doc["images"] = [image]
+    doc["cameras"] = [{"type": "perspective", "perspective": {"yfov": math.pi / 2, "aspectRatio": 1.0, "znear": 0.01}}]
+    doc["nodes"].append({"camera": 0, "translation": [0.5, 0.5, 0.5]})
+    doc["scenes"][0]["nodes"].append(1)
+    doc["buffers"][0]["byteLength"] = len(blob)
+    return doc, blob
+
+
+def quad_png():
+    return png(4, 4, [c for t in QUAD_TEXELS for c in t])
+
+
+def png_data_uri(data):
+    return "data:image/png;base64," + base64.b64encode(data).decode()
+
+
+def texture_files():
+    write_bytes("good/textured-quad.png", quad_png())
+    doc, blob = textured_quad({"uri": "textured-quad.png"})
+    write_json("good/textured-quad.gltf", embed(doc, blob))
+    # the same PNG from a buffer view, after the geometry
+    doc, blob = textured_quad({"bufferView": 3, "mimeType": "image/png"})
+    data = quad_png()
+    doc["bufferViews"].append({"buffer": 0, "byteOffset": len(blob), "byteLength": len(data)})
+    blob += data
+    blob += b"\0" * (-len(blob) % 4)
+    doc["buffers"][0]["byteLength"] = len(blob)
+    write_json("good/textured-quad-view.gltf", embed(doc, blob))
+    # normalized unsigned-short texcoords
+    doc, blob = textured_quad({"uri": "textured-quad.png"}, texcoords=[(0, 65535), (65535, 65535), (65535, 0), (0, 0)],
+                              component=5123, normalized=True)
+    write_json("good/textured-quad-ushort.gltf", embed(doc, blob))
+
+    # alphaMode MASK (default cutoff 0.5): the top-right texel (alpha 64/255) is cut away
+    doc, blob = textured_quad({"uri": "textured-quad.png"})
+    doc["materials"][0]["alphaMode"] = "MASK"
+    write_json("good/alpha-mask-quad.gltf", embed(doc, blob))
+
+    doc, blob = textured_quad({"uri": "missing.png"})
+    write_json("bad/texture-missing-image.gltf", embed(doc, blob))
+    doc, blob = textured_quad({"uri": png_data_uri(b"this is not a PNG file at all")})
+    write_json("bad/texture-undecodable.gltf", embed(doc, blob))
+    # a header that says 20000 x 4 (and no image data worth decoding): refused before decoding
+    header = quad_png()[:8] + struct.pack(">I", 13) + b"IHDR" + struct.pack(">IIBBBBB", 20000, 4, 8, 6, 0, 0, 0)
+    header += struct.pack(">I", zlib.crc32(header[12:]) & 0xFFFFFFFF)
+    doc, blob = textured_quad({"uri": png_data_uri(header + quad_png()[33:])})
+    write_json("bad/texture-too-large.gltf", embed(doc, blob))
+    doc, blob = textured_quad({"uri": "textured-quad.png"}, texcoords=[(0, 255), (255, 255), (255, 0), (0, 0)],
+                              component=5121)
+    write_json("bad/texcoord-unnormalized.gltf", embed(doc, blob))
+    doc, blob = textured_quad({"uri": "textured-quad.png"}, texcoords=[(0, 1, 0), (1, 1, 0), (1, 0, 0), (0, 0, 0)],
+                              accessor_type="VEC3")
+    write_json("bad/texcoord-type.gltf", embed(doc, blob))
+    doc, blob = textured_quad({"uri": "textured-quad.png"}, texture_index=5)
+    write_json("bad/texture-index.gltf", embed(doc, blob))
+    doc, blob = textured_quad({"uri": "textured-quad.png"}, image_source=3)
+    write_json("bad/texture-image-index.gltf", embed(doc, blob))
+    # the bad files that name textured-quad.png find it beside them
+    write_bytes("bad/textured-quad.png", quad_png())
 
 
 def good_files():
@@ -321,4 +423,5 @@ def bad_files():
 if __name__ == "__main__":
     good_files()
     bad_files()
+    texture_files()
     print("wrote", HERE)
