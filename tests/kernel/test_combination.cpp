@@ -153,8 +153,10 @@ TEST(Combination, ImageMeanAndQuadrantsMatchThePathTracerWithThePowerToSeeTwoPer
               100.0 * reference.se[0] / reference.mean[0], ref_seconds);
   // Without light sampling RB meets the 0.3 m light in few bundle directions (2.7 % standard error
   // at 32 runs x 64 iterations, N2/N1 4): those cases run PT-heavy, where beta < 1 at nearly every vertex.
+  // The clamped beta leaves RB more of the image than the balance one: 16 rounds gave it a standard
+  // error of 0.70 %, at the limit; 24 rounds took it to 0.54 %.
   const std::vector<GlossyCase> cases = {
-      {"N2/N1 4, beta clamped, light sampling", BP_BETA_CLAMPED, true, 1, 4, 16},
+      {"N2/N1 4, beta clamped, light sampling", BP_BETA_CLAMPED, true, 1, 4, 24},
       {"N2/N1 4, beta balance, light sampling", BP_BETA_BALANCE, true, 1, 4, 16},
       {"N2/N1 4, beta balance, light sampling, eye shared", BP_BETA_BALANCE, true, 1, 4, 16, true},
       {"N2/N1 1/16, beta clamped", BP_BETA_CLAMPED, false, 16, 1, 8},
