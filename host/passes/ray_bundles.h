@@ -44,7 +44,7 @@ struct RayBundleSettings {
   std::string kernel_options;         // feature switches (device/kernel_features.h); empty: generic
   std::size_t static_tiled_bytes = kStaticTiledBytes;
   float contact_depth_fraction = kContactDepthFraction;  // 0: touching surfaces exchange radiance too
-  DirectionSequence directions = DirectionSequence::stratified;  // the iterations' directions (bundle_directions.h)
+  DirectionSequence directions = DirectionSequence::independent;  // the iterations' directions (bundle_directions.h)
 };
 
 // Bins per side so that an element of average area covers `bins_per_element` bins on average
