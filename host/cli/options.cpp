@@ -71,6 +71,11 @@ options (defaults in brackets):
   --beta B            product weights: the per-vertex factor of w_RB = prod beta, from PT's
                       density P of the vertex's direction: clamped, min(1, N2/(N1 P)), or
                       balance, N2/(N2 + N1 P) (the paper's one-step weight)  [clamped]
+  --rb-level L        product weights: the level (mean over the pixels, per channel) of RB's
+                      share of the image: corrected (RB's layer scaled to the inverse-variance
+                      mean of its own level and PT's estimate of the same share, PT's
+                      unweighted less weighted image: removes RB's level noise, a ratio
+                      estimator, consistent) or own (the plain weighted sum)   [corrected]
   --rb-light-rate R   combined with light sampling: the probability that a patch traces its
                       shadow ray in an iteration, in (0, 1] (the weights count R·N2 samples)
                                                                 [min(1, pixels / patches)]
@@ -192,6 +197,10 @@ RenderOptions parse_render_options(const std::vector<std::string>& args) {
          if (v != "product" && v != "paper" && v != "none")
            throw UsageError(k + ": unknown weights '" + v + "' (available: product, paper, none)");
          o.weights = v;
+       }},
+      {"--rb-level", [&](auto& k, auto& v) {
+         if (v != "corrected" && v != "own") throw UsageError(k + ": expected corrected or own, got '" + v + "'");
+         o.rb_level = v;
        }},
       {"--beta", [&](auto& k, auto& v) {
          if (v != "clamped" && v != "balance")

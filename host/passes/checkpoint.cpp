@@ -9,9 +9,11 @@
 namespace bp {
 namespace {
 
-constexpr char kMagic[8] = {'B', 'P', 'C', 'K', 'P', 'T', '0', '2'};
-// Version 01 (before issue #16) is read too: it ends before the error estimate's statistics.
+constexpr char kMagic[8] = {'B', 'P', 'C', 'K', 'P', 'T', '0', '3'};
+// Versions 01 (before issue #16: it ends before the error estimate's statistics) and 02 (before
+// --rb-level: it ends before the RB level's) are read too.
 constexpr char kMagicV1[8] = {'B', 'P', 'C', 'K', 'P', 'T', '0', '1'};
+constexpr char kMagicV2[8] = {'B', 'P', 'C', 'K', 'P', 'T', '0', '2'};
 
 struct Writer {
   std::string bytes;
@@ -79,8 +81,8 @@ std::optional<Accumulator> read_accumulator(Reader& r) {
   return a;
 }
 
-void write_error_estimate(Writer& w, const std::optional<BatchMeansErrorEstimate::State>& e) {
-  w.value(std::uint8_t(e.has_value()));
+void write_batch_means(Writer& w, const BatchMeansErrorEstimate::State* e) {
+  w.value(std::uint8_t(e != nullptr));
   if (!e) return;
   w.value(std::int32_t(e->width));
   w.value(std::int32_t(e->height));
@@ -97,7 +99,7 @@ void write_error_estimate(Writer& w, const std::optional<BatchMeansErrorEstimate
   }
 }
 
-std::optional<BatchMeansErrorEstimate::State> read_error_estimate(Reader& r) {
+std::optional<BatchMeansErrorEstimate::State> read_batch_means(Reader& r) {
   if (!r.value<std::uint8_t>()) return std::nullopt;
   BatchMeansErrorEstimate::State e;
   e.width = r.value<std::int32_t>();
@@ -105,7 +107,7 @@ std::optional<BatchMeansErrorEstimate::State> read_error_estimate(Reader& r) {
   e.rounds = r.value<std::uint64_t>();
   e.start_sums = r.array<double>();
   const std::uint32_t levels = r.value<std::uint32_t>();
-  if (levels > 64) throw std::runtime_error(r.path + ": the checkpoint's error estimate is inconsistent");
+  if (levels > 64) throw std::runtime_error(r.path + ": the checkpoint's batch statistics are inconsistent");
   for (std::uint32_t j = 0; j < levels; ++j) {
     BatchMeansErrorEstimate::Level l;
     l.batch_rounds = r.value<std::uint64_t>();
@@ -135,7 +137,9 @@ void write_checkpoint(const std::string& path, const Checkpoint& c) {
     w.value(c.rb_state->eye_rounds);
     w.value(std::uint8_t(c.rb_state->warmed_up));
   }
-  write_error_estimate(w, c.error_estimate);
+  write_batch_means(w, c.error_estimate ? &*c.error_estimate : nullptr);
+  write_batch_means(w, c.rb_level ? &c.rb_level->pt : nullptr);
+  write_batch_means(w, c.rb_level ? &c.rb_level->rb : nullptr);
   write_file_atomically(path, "checkpoint", [&](const std::string& tmp) {
     std::ofstream out(tmp, std::ios::binary);
     out.write(w.bytes.data(), std::streamsize(w.bytes.size()));
@@ -147,8 +151,11 @@ Checkpoint read_checkpoint(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error(path + ": cannot read the checkpoint (missing or unreadable)");
   const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const bool v1 = bytes.size() >= sizeof kMagicV1 && std::memcmp(bytes.data(), kMagicV1, sizeof kMagicV1) == 0;
-  if (!v1 && (bytes.size() < sizeof kMagic || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0))
+  const auto starts_with = [&](const char (&magic)[8]) {
+    return bytes.size() >= sizeof magic && std::memcmp(bytes.data(), magic, sizeof magic) == 0;
+  };
+  const bool v1 = starts_with(kMagicV1), v2 = starts_with(kMagicV2);
+  if (!v1 && !v2 && !starts_with(kMagic))
     throw std::runtime_error(path + ": not a bundlepath checkpoint");
   Reader r{bytes, path, sizeof kMagic};
   Checkpoint c;
@@ -164,7 +171,12 @@ Checkpoint read_checkpoint(const std::string& path) {
     s.warmed_up = r.value<std::uint8_t>() != 0;
     c.rb_state = s;
   }
-  if (!v1) c.error_estimate = read_error_estimate(r);
+  if (!v1) c.error_estimate = read_batch_means(r);
+  if (!v1 && !v2) {
+    std::optional<BatchMeansErrorEstimate::State> pt = read_batch_means(r), rb = read_batch_means(r);
+    if (pt.has_value() != rb.has_value()) throw std::runtime_error(path + ": the checkpoint's RB level is inconsistent");
+    if (pt) c.rb_level = RbLevel::State{std::move(*pt), std::move(*rb)};
+  }
   if (r.at != bytes.size()) throw std::runtime_error(path + ": the checkpoint has trailing bytes");
   return c;
 }

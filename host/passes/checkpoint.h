@@ -4,6 +4,7 @@
 #pragma once
 #include "image/accumulator.h"
 #include "image/error_estimate.h"
+#include "image/rb_level.h"
 #include "passes/ray_bundles.h"
 #include <cstdint>
 #include <optional>
@@ -20,6 +21,8 @@ struct Checkpoint {
   // The error estimate's batch statistics (DESIGN.md §9); absent in checkpoints of before issue #16,
   // whose resumed render starts its estimate afresh.
   std::optional<BatchMeansErrorEstimate::State> error_estimate;
+  // The RB level's batch statistics (--rb-level corrected, image/rb_level.h); absent before format 03.
+  std::optional<RbLevel::State> rb_level;
 };
 
 // Binary, written atomically (temporary file, then rename). Throws std::runtime_error naming the file.

@@ -22,7 +22,7 @@ std::string options_key(const RenderSpec& o, int width, int height, float patch_
            ";shading=" + (o.gouraud ? "gouraud" : "flat") + ";directions=" + o.rb_directions;
   if (shape)
     key += ";weights=" + o.weights + ";beta=" + o.beta + ";light_rate=" + std::to_string(o.light_rate) +
-           ";eye_direct=" + eye_direct +
+           ";eye_direct=" + eye_direct + (rb_level_corrected(o) ? ";rb_level=corrected" : "") +
            ";round=" + std::to_string(shape->pt_samples) + "spp+" + std::to_string(shape->rb_iterations) + "it";
   return key;
 }

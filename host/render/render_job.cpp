@@ -56,6 +56,14 @@ void start_error_estimate(RenderState& s) {
   s.estimated_rel_mse = s.error_estimate->estimated_rel_mse(s.round_sums);
 }
 
+// --rb-level corrected (image/rb_level.h): the levels of RB's layer and of PT's estimate of it,
+// batched like the render loop's batches.
+void start_rb_level(RenderState& s) {
+  if (!rb_level_corrected(s.spec) || !s.shape || s.shape->pt_samples == 0 || !s.rb) return;
+  s.rb_level.emplace(s.first_round, s.pt_accum, s.shape->pt_samples, s.rb_accum, s.shape->rb_iterations,
+                     s.resumed ? s.resumed->rb_level : std::nullopt);
+}
+
 void save_checkpoint(RenderState& s, std::uint64_t rounds, double seconds) {
   Checkpoint c;
   c.options = s.key;
@@ -67,6 +75,7 @@ void save_checkpoint(RenderState& s, std::uint64_t rounds, double seconds) {
     c.rb_state = s.rb->save_state();
   }
   c.error_estimate = s.error_estimate->state();
+  if (s.rb_level) c.rb_level = s.rb_level->state();
   write_checkpoint(s.spec.checkpoint_path, c);
 }
 
@@ -140,6 +149,7 @@ void render_rounds(RenderState& s, RenderObserver& observer) {
         double secs = std::max(p.elapsed_seconds, 1e-9);
         s.error_estimate->add(p.rounds_done, s.round_sums);
         s.estimated_rel_mse = s.error_estimate->estimated_rel_mse(s.round_sums);
+        if (s.rb_level) s.rb_level->add(p.rounds_done);
         RenderProgressReport report;
         report.fraction = p.fraction;
         if (o.target_error > 0.0 && std::isfinite(s.estimated_rel_mse) && p.rounds_done > s.first_round) {
@@ -208,6 +218,7 @@ RenderResult RenderJob::run(RenderObserver& observer) {
   choose_auto_settings(s, observer);
   resume(s);
   start_error_estimate(s);
+  start_rb_level(s);
   build_schedule(s);
   render_rounds(s, observer);
 

@@ -3,13 +3,15 @@
 #include "image/contact_sheet.h"
 #include "render/render_state.h"
 
+#include <array>
 #include <filesystem>
 
 namespace bp {
 namespace {
-ImageRGB sum_images(const ImageRGB& a, const ImageRGB& b) {
+// a + b, each channel of b times its factor.
+ImageRGB sum_images(const ImageRGB& a, const ImageRGB& b, const std::array<double, 3>& b_factors) {
   ImageRGB out = a;
-  for (std::size_t i = 0; i < out.rgb.size(); ++i) out.rgb[i] += b.rgb[i];
+  for (std::size_t i = 0; i < out.rgb.size(); ++i) out.rgb[i] += float(double(b.rgb[i]) * b_factors[i % 3]);
   return out;
 }
 }  // namespace
@@ -26,7 +28,10 @@ RenderLayers make_layers(const RenderState& s) {
   RenderLayers layers;
   ImageRGB pt_image = pt ? s.pt_accum.mean() : ImageRGB(width, height);
   ImageRGB rb_image = s.rb ? s.rb_accum.mean() : ImageRGB(width, height);
-  layers.images.emplace_back("", sum_images(pt_image, rb_image));
+  // The combined image, pt + s·rb with --rb-level corrected's s (image/rb_level.h); the rb layer
+  // stays RB's own weighted estimate.
+  const std::array<double, 3> rb_factors = s.rb_level ? s.rb_level->factors() : std::array<double, 3>{1.0, 1.0, 1.0};
+  layers.images.emplace_back("", sum_images(pt_image, rb_image, rb_factors));
   if (s.shape) {
     layers.images.emplace_back("pt", pt_image);
     layers.images.emplace_back("rb", rb_image);

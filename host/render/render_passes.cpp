@@ -92,7 +92,8 @@ void build_passes(RenderState& s) {
   // --eye-direct auto builds them shared (RB's chains are a superset) and decides later.
   const bool eye_direct_auto = s.light_sampling && s.use_pt && s.use_rb && o.eye_direct == "auto";
   s.eye_direct_shared = s.light_sampling && (o.eye_direct == "shared" || eye_direct_auto);
-  s.pt_accum = Accumulator(width, height, o.all_layers);
+  // PT's unweighted sums also give the corrected RB level (image/rb_level.h).
+  s.pt_accum = Accumulator(width, height, o.all_layers || rb_level_corrected(o));
   s.rb_accum = Accumulator(width, height, o.all_layers);
 
   if (s.use_pt) {

@@ -40,6 +40,7 @@ struct RenderSpec {
   float light_rate = 0.0f;          // combined + light sampling: RB's light-sample rate; 0: default_light_rate
   std::string eye_direct = "auto";  // combined + light sampling: the eye vertex's direct light, shared, pt or auto
   double ratio = -1.0;           // combined: PT samples per pixel per RB iteration (0: RB alone); < 0: auto
+  std::string rb_level = "corrected";  // combined, product weights: RB's layer level, corrected (from PT's too) or own
   bool all_layers = false;       // --layers all: also pt_raw and rb_raw
   bool light_sampling = true;    // --no-light-sampling turns it off (light_sampling_applies says where it acts)
   std::string light_selection = "tree";  // light sampling's choice of light: tree (per receiving patch) or power
@@ -60,6 +61,12 @@ struct RenderSpec {
 // (--mode pt; --mode combined with product weights). RB alone, the paper's weights and the plain
 // sum keep the paper's two estimators.
 bool light_sampling_applies(const RenderSpec& o);
+
+// --rb-level corrected (image/rb_level.h): --mode combined with product weights, whose PT samples
+// also estimate RB's share (PT's unweighted less its weighted image); --ratio 0 has no PT to ask.
+inline bool rb_level_corrected(const RenderSpec& o) {
+  return o.mode == "combined" && o.weights == "product" && o.rb_level == "corrected" && o.ratio != 0.0;
+}
 
 // --ratio auto (the default of --mode combined): a timed probe before the render picks c.
 inline bool ratio_is_auto(const RenderSpec& o) { return o.mode == "combined" && o.ratio < 0.0; }

@@ -3,6 +3,7 @@
 #pragma once
 #include "image/accumulator.h"
 #include "image/error_estimate.h"
+#include "image/rb_level.h"
 #include "passes/checkpoint.h"
 #include "passes/combined.h"
 #include "passes/path_tracer.h"
@@ -62,6 +63,7 @@ struct RenderState {
   RoundSums round_sums;
   std::optional<BatchMeansErrorEstimate> error_estimate;
   double estimated_rel_mse = NAN;
+  std::optional<RbLevel> rb_level;  // --rb-level corrected: RB's layer level from both estimators
 
   std::unique_ptr<ProgressivePass> schedule;  // the combination or the devices' lanes, when there is one
   ParallelPass* lanes = nullptr;              // the schedule, on several devices

@@ -93,6 +93,23 @@ void add_error_estimate_stats(const RenderState& s, nlohmann::json& stats) {
   if (s.rb) stats["error_estimate"]["rb_batch_iterations"] = e.batch_rounds() * (s.shape ? s.shape->rb_iterations : 1);
 }
 
+// --rb-level (image/rb_level.h): per channel, the factor on RB's layer and the two levels it weighs.
+void add_rb_level_stats(const RenderState& s, nlohmann::json& stats) {
+  if (!s.rb_level) {
+    stats["rb_level"] = {{"mode", "own"}};
+    return;
+  }
+  const RbLevel& l = *s.rb_level;
+  const auto json3 = [](const std::array<double, 3>& v) { return nlohmann::json::array({v[0], v[1], v[2]}); };
+  stats["rb_level"] = {{"mode", "corrected"},
+                       {"factors", json3(l.factors())},
+                       {"rb", json3(l.rb_levels())},
+                       {"rb_stderr", json3(l.rb_standard_errors())},
+                       {"pt", json3(l.pt_levels())},
+                       {"pt_stderr", json3(l.pt_standard_errors())},
+                       {"batches", l.batches()}};
+}
+
 }  // namespace
 
 nlohmann::json render_stats(const RenderState& s, const RenderResult& r) {
@@ -136,7 +153,10 @@ nlohmann::json render_stats(const RenderState& s, const RenderResult& r) {
   if (s.light_sampling) stats["light_selection"] = o.light_selection;
   if (!o.resume_path.empty()) stats["resumed_from_rounds"] = s.first_round;
   if (!o.checkpoint_path.empty()) stats["checkpoint"] = o.checkpoint_path;
-  if (s.shape) add_combination_stats(s, stats);
+  if (s.shape) {
+    add_combination_stats(s, stats);
+    add_rb_level_stats(s, stats);
+  }
   if (s.rb) add_ray_bundle_stats(s, r, stats);
   if (!r.reference_metrics.empty()) {
     nlohmann::json metrics;

@@ -1,0 +1,71 @@
+// The level of RB's share of the combined image, from both estimators (--rb-level, README "The RB
+// level"). RB's weighted layer is smooth but its level -- the layer's mean over the pixels, per
+// channel -- is noisy: every patch of an iteration moves along the same random direction, so the
+// error of one iteration is the same sign over the whole image and does not average out over pixels
+// (the house at 160 iterations: the image mean spreads by ±2 % between seeds). PT estimates the same
+// quantity with its unweighted minus weighted estimate, (1 − w_PT)·f/p = w_RB·f/p per path, whose
+// level is nearly exact (every pixel's samples are independent). So the combined image is
+//
+//   I = PT_w + s · RB_w,   s = M / M_RB   per channel,
+//   M = (M_RB / Var_RB + M_PTc / Var_PTc) / (1 / Var_RB + 1 / Var_PTc)   (inverse-variance mean)
+//
+// with M_RB RB's level, M_PTc PT's level of the same share, and each variance of the mean from batch
+// means over the render loop's batches (PT's rounds are independent; RB's batches of the loop's
+// length are correlated, so Var_RB is if anything low and the mean leans to RB's own level: never
+// worse than the plain sum by much). A ratio estimator: consistent, biased only to second order in
+// the levels' relative noise (4e-4 at 2 % noise), and it takes RB's level discretisation with it.
+#pragma once
+#include "image/accumulator.h"
+#include "image/error_estimate.h"
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+namespace bp {
+
+// One channel's inverse-variance mean of two estimates of RB's level, as a factor on RB's own:
+// M / M_RB (above). 1 (RB's own level) where the factor cannot be trusted: a variance is unknown
+// (NaN: fewer than two batches) or RB's level or the mean is not positive and finite.
+double rb_level_factor(double rb_level, double rb_variance, double pt_level, double pt_variance);
+
+class RbLevel {
+ public:
+  // Tracks the levels from round `first_round`; pt and rb are the render's accumulators (pt with its
+  // unweighted sums), each round adding pt_samples PT samples per pixel and rb_iterations RB
+  // iterations. A resumed render passes its checkpoint's state.
+  struct State {
+    BatchMeansErrorEstimate::State pt, rb;  // 1x1 "images" of the per-round levels
+  };
+  RbLevel(std::uint64_t first_round, const Accumulator& pt, std::uint32_t pt_samples, const Accumulator& rb,
+          std::uint32_t rb_iterations, const std::optional<State>& resumed);
+
+  // After a batch of the render loop (the accumulators hold rounds [0, rounds)).
+  void add(std::uint64_t rounds);
+
+  // Per channel: the factor s on RB's weighted layer, the levels and the standard errors of their means.
+  std::array<double, 3> factors() const;
+  std::array<double, 3> rb_levels() const { return levels(rb_sums_, *rb_); }
+  std::array<double, 3> pt_levels() const { return levels(pt_sums_, *pt_); }
+  std::array<double, 3> rb_standard_errors() const { return standard_errors(*rb_); }
+  std::array<double, 3> pt_standard_errors() const { return standard_errors(*pt_); }
+  std::uint64_t batches() const { return pt_->batches(); }
+  State state() const { return State{pt_->state(), rb_->state()}; }
+
+ private:
+  // The sums over rounds of each channel's level: RB's weighted layer, and PT's unweighted less its
+  // weighted layer, per round (so that sums / rounds is the level of the image).
+  void update_sums();
+  static std::array<double, 3> levels(const std::vector<double>& sums, const BatchMeansErrorEstimate& e);
+  static std::array<double, 3> standard_errors(const BatchMeansErrorEstimate& e);
+
+  const Accumulator& pt_accum_;
+  const Accumulator& rb_accum_;
+  double pt_scale_, rb_scale_;  // 1 / (samples per round · pixels)
+  std::vector<double> pt_sums_, rb_sums_;
+  RoundSums pt_round_sums_, rb_round_sums_;
+  std::optional<BatchMeansErrorEstimate> pt_, rb_;
+};
+
+}  // namespace bp
