@@ -154,14 +154,15 @@ TEST(Cli, CombinedModeWritesEveryLayerAndReportsAgainstAReference) {
   // A reference of the right size: a short path-traced render.
   CliResult ref = run_cli("render " + kScenes + "cornell-box.gltf --width 20 --height 20 --spp 16 --out " + dir + "/ref");
   ASSERT_EQ(ref.exit_code, 0) << ref.output;
+  // --rb-level own: the plain sum (the corrected level: RbLevelCli.WrittenImageIsPtPlusTheFactorTimesRb).
   CliResult r = run_cli("render " + kScenes + "cornell-box.gltf --mode combined --ratio 1/4 --width 20 --height 20 " +
-                        "--spp 8 --reference " + dir + "/ref.exr --contact-sheet " + dir + "/sheet.png --out " + dir +
+                        "--rb-level own --spp 8 --reference " + dir + "/ref.exr --contact-sheet " + dir + "/sheet.png --out " + dir +
                         "/c --stats " + dir + "/s.json");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   std::vector<std::string> names = exr_layer_names(dir + "/c.exr");
   for (const char* layer : {"", "pt", "rb", "pt_raw", "rb_raw"})
     EXPECT_NE(std::find(names.begin(), names.end(), layer), names.end()) << "layer '" << layer << "'";
-  // R,G,B is the sum of the weighted layers (eq. 3).
+  // R,G,B is the sum of the weighted layers (eq. 3) with --rb-level own.
   ImageRGB combined = read_exr(dir + "/c.exr"), pt = read_exr(dir + "/c.exr", "pt"), rb = read_exr(dir + "/c.exr", "rb");
   for (std::size_t i = 0; i < combined.rgb.size(); ++i) ASSERT_NEAR(combined.rgb[i], pt.rgb[i] + rb.rgb[i], 1e-5f);
   nlohmann::json stats = nlohmann::json::parse(std::ifstream(dir + "/s.json"));

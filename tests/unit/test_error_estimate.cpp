@@ -117,7 +117,8 @@ TEST(ErrorEstimate, FewerThanTwoBatchesHaveNoEstimate) {
 }
 
 // The statistics survive a checkpoint (the resumed estimate continues the same batches), and a
-// checkpoint of before issue #16 (format 01, no statistics) still reads.
+// checkpoint of before issue #16 (format 01, no statistics) and one of before --rb-level (format 02)
+// still read.
 TEST(ErrorEstimate, StatisticsSurviveACheckpoint) {
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<double> u;
@@ -147,12 +148,16 @@ TEST(ErrorEstimate, StatisticsSurviveACheckpoint) {
   std::ifstream in(dir + "/v1", std::ios::binary);
   std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   in.close();
-  bytes[7] = '1';
-  bytes.pop_back();  // format 01 ends before the error estimate's presence byte
-  std::ofstream(dir + "/v1", std::ios::binary) << bytes;
-  Checkpoint old = read_checkpoint(dir + "/v1");
-  EXPECT_EQ(old.rounds, 39u);
-  EXPECT_FALSE(old.error_estimate);
+  // Format 02 ends before the RB level's two presence bytes, 01 also before the error estimate's.
+  for (const char version : {'2', '1'}) {
+    bytes[7] = version;
+    bytes.resize(bytes.size() - (version == '2' ? 2 : 1));
+    std::ofstream(dir + "/old", std::ios::binary) << bytes;
+    Checkpoint old = read_checkpoint(dir + "/old");
+    EXPECT_EQ(old.rounds, 39u);
+    EXPECT_FALSE(old.error_estimate);
+    EXPECT_FALSE(old.rb_level);
+  }
 }
 
 }  // namespace

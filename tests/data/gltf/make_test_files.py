@@ -420,8 +420,32 @@ def bad_files():
     bad("specular-colour", specular_colour)
 
 
+def furnace_file():
+    """A closed unit box seen from its centre: every face emits Le = 1 and reflects Lambert albedo 0.5
+    towards the inside, so every pixel reads Le / (1 - a) = 2 (the combination's furnace, issue #12)."""
+    corners = [(x, y, z) for x in (-0.5, 0.5) for y in (-0.5, 0.5) for z in (-0.5, 0.5)]
+    faces = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
+    indices = []
+    for a, b, c, d in faces:
+        pa, pb, pc = corners[a], corners[b], corners[c]
+        u = [pb[i] - pa[i] for i in range(3)]
+        v = [pc[i] - pa[i] for i in range(3)]
+        n = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]]
+        if sum(n[i] * -pa[i] for i in range(3)) < 0:  # front (counter-clockwise) towards the centre
+            a, b, c, d = d, c, b, a
+        indices += [a, b, c, a, c, d]
+    doc, blob = base(corners, indices)
+    doc["materials"] = [{"name": "furnace", "emissiveFactor": [1, 1, 1],
+                         "extras": {"phong": {"kd": [0.5, 0.5, 0.5], "ks": [0, 0, 0], "shininess": 1}}}]
+    doc["nodes"].append({"camera": 0})
+    doc["scenes"][0]["nodes"] = [0, 1]
+    doc["cameras"] = [{"type": "perspective", "perspective": {"yfov": 1.2, "znear": 0.01}}]
+    write_json("good/furnace.gltf", embed(doc, blob))
+
+
 if __name__ == "__main__":
     good_files()
+    furnace_file()
     bad_files()
     texture_files()
     print("wrote", HERE)
