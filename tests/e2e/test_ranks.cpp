@@ -1,0 +1,146 @@
+// One render on two MPI ranks (DESIGN.md §8) against one process, through `mpirun -np 2` and the
+// real binary. Built only where CMake found MPI and Open MPI's mpirun (BP_MPIRUN). The flags keep
+// mpirun working in a CI container: as root, two ranks whatever the core count, and shared memory
+// between the ranks without the network or ptrace (CMA) that a container may lack.
+#ifdef BP_MPIRUN
+#include "e2e/cli_runner.h"
+#include "image/image.h"
+#include "kernel/region_test.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+namespace bp::test {
+namespace {
+
+namespace fs = std::filesystem;
+const std::string kCornell = std::string(BP_SOURCE_DIR) + "/scenes/cornell-box.gltf ";
+const std::string kTwoRanks = std::string("timeout 300 ") + BP_MPIRUN +
+                              " --oversubscribe --allow-run-as-root --mca pml ob1 --mca btl self,vader"
+                              " --mca btl_vader_single_copy_mechanism none -np 2 ";
+
+nlohmann::json read_stats(const std::string& path) { return nlohmann::json::parse(std::ifstream(path)); }
+
+CliResult run_on_two_ranks(const std::string& args) {
+  return run_shell(kTwoRanks + "'" + BP_BINARY + "' " + args);
+}
+
+std::size_t count_of(const std::string& text, const std::string& what) {
+  std::size_t n = 0;
+  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
+// Independent renders of one process and of two ranks agree in the image mean and its quadrants
+// (Welch t-tests at a Šidák-corrected 1 %): RB runs a chain of its own on each rank.
+void expect_regions_agree(const std::string& options, int runs, const std::string& dir) {
+  auto render = [&](bool two_ranks, std::uint32_t seed) {
+    const std::string out = dir + (two_ranks ? "/two_" : "/one_") + std::to_string(seed);
+    const std::string args = "render " + kCornell + options + " --seed " + std::to_string(seed) + " --out " + out;
+    const CliResult r = two_ranks ? run_on_two_ranks(args) : run_cli(args);
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    return read_exr(out + ".exr");
+  };
+  const RegionRuns one = large_region_runs(runs, 5, [&](std::uint32_t seed) { return render(false, seed); });
+  const RegionRuns two = large_region_runs(runs, 5, [&](std::uint32_t seed) { return render(true, seed); });
+  const double alpha = sidak_alpha(0.01, kLargeRegions);
+  for (int i = 0; i < kLargeRegions; ++i) {
+    const WelchT w = welch_t(two, one, i);
+    EXPECT_GT(student_t_two_sided_p(w.t, w.dof), alpha)
+        << options << ", " << large_region_name(i) << ": two ranks " << two.mean[i] << " ± " << two.se[i]
+        << ", one process " << one.mean[i] << " ± " << one.se[i] << " (t " << w.t << ")";
+  }
+}
+
+// PT's samples are a pure function of (seed, pixel, sample index): two ranks, each with its slices of
+// the same rounds, give the one-process image up to the order of float sums.
+TEST(Ranks, TwoRanksGiveTheOneProcessPathTracedImage) {
+  const std::string dir = fresh_dir("ranks_pt");
+  const std::string common = "render " + kCornell + "--width 64 --height 64 --spp 64 --seed 7 ";
+  const CliResult one = run_cli(common + "--out " + dir + "/one --stats " + dir + "/one.json");
+  ASSERT_EQ(one.exit_code, 0) << one.output;
+  const CliResult two = run_on_two_ranks(common + "--out " + dir + "/two --stats " + dir + "/two.json");
+  ASSERT_EQ(two.exit_code, 0) << two.output;
+  EXPECT_EQ(count_of(two.output, "bundlepath: rendering "), 1u) << "rank 0 alone speaks:\n" << two.output;
+
+  const nlohmann::json one_stats = read_stats(dir + "/one.json"), two_stats = read_stats(dir + "/two.json");
+  EXPECT_EQ(one_stats["ranks"], 1);
+  EXPECT_EQ(two_stats["ranks"], 2);
+  EXPECT_EQ(two_stats["spp"], 64);
+  const std::uint64_t rank0 = two_stats["devices"][0]["pt_samples"];  // rank 0's part: rank 1 did the rest
+  EXPECT_GT(rank0, 16u) << two_stats.dump();
+  EXPECT_LT(rank0, 48u) << two_stats.dump();
+
+  const ImageRGB a = read_exr(dir + "/two.exr"), b = read_exr(dir + "/one.exr");
+  ASSERT_EQ(a.rgb.size(), b.rgb.size());
+  double worst = 0.0, sum = 0.0;
+  std::size_t worst_at = 0;
+  for (std::size_t i = 0; i < a.rgb.size(); ++i) {
+    const double x = a.rgb[i], y = b.rgb[i], scale = std::max(std::abs(x), std::abs(y));
+    const double relative = scale > 0.0 ? std::abs(x - y) / scale : 0.0;
+    if (!(relative <= worst)) worst = relative, worst_at = i;  // NaN counts as the worst
+    sum += y;
+  }
+  EXPECT_GT(sum, 0.0);
+  EXPECT_LT(worst, 1e-4) << "pixel " << worst_at / 3 << " channel " << worst_at % 3 << ": " << a.rgb[worst_at]
+                         << " on two ranks, " << b.rgb[worst_at] << " in one process";
+}
+
+TEST(Ranks, RayBundlesOnTwoRanksAgreeWithOneProcess) {
+  expect_regions_agree("--width 32 --height 32 --mode rb --iterations 192", 6, fresh_dir("ranks_rb"));
+}
+
+// --ratio auto: root's probe picks c and every rank renders with it (the weights need one c).
+TEST(Ranks, CombinedOnTwoRanksAgreesWithOneProcess) {
+  expect_regions_agree("--width 32 --height 32 --mode combined --spp 24", 6, fresh_dir("ranks_combined"));
+}
+
+// --time: root decides when the time is up and every rank stops at that round (a rank that went on
+// would wait forever for the others in the next batch's reduction: mpirun's timeout fails the test).
+TEST(Ranks, TimeStopsEveryRankAtTheSameRound) {
+  const std::string dir = fresh_dir("ranks_time");
+  const CliResult r = run_on_two_ranks("render " + kCornell + "--width 32 --height 32 --mode combined --ratio 1 " +
+                                       "--time 1.5 --out " + dir + "/t --stats " + dir + "/t.json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const nlohmann::json stats = read_stats(dir + "/t.json");
+  const std::uint64_t rounds = stats["rounds"], rank0 = stats["devices"][0]["pt_samples"];
+  EXPECT_GE(rounds, 2u) << stats.dump();
+  EXPECT_EQ(stats["spp"], rounds);
+  EXPECT_EQ(stats["iterations"], rounds);
+  EXPECT_GT(rank0, 0u);
+  EXPECT_LT(rank0, rounds);
+  EXPECT_FALSE(stats["interrupted"].get<bool>());
+}
+
+// Ctrl-C on mpirun: Open MPI sends the ranks SIGTERM odls_base_sigkill_timeout seconds later (and
+// SIGKILL as long after that); they agree to stop after the batch they are in, and rank 0 writes the
+// image of the rounds done. mpirun itself exits 1 (the job it ended), so the stats tell.
+TEST(Ranks, SigintOnMpirunWritesTheRoundsDone) {
+  const std::string dir = fresh_dir("ranks_sigint");
+  const std::string render = kTwoRanks + "--mca odls_base_sigkill_timeout 5 '" + std::string(BP_BINARY) +
+                             "' render " + kCornell +
+                             "--width 32 --height 32 --mode combined --ratio 1 --spp 100000000 --out " + dir +
+                             "/i --stats " + dir + "/s.json";
+  const CliResult r = run_shell(render + " 2>" + dir + "/log & pid=$!; for i in $(seq 600); do grep -q rendering " +
+                                dir + "/log && break; sleep 0.1; done; sleep 1; kill -INT $pid; wait $pid; " +
+                                "echo \"exit=$?\"; cat " + dir + "/log");
+  ASSERT_TRUE(fs::exists(dir + "/s.json")) << r.output;
+  const nlohmann::json stats = read_stats(dir + "/s.json");
+  EXPECT_TRUE(stats["interrupted"].get<bool>()) << r.output;
+  EXPECT_EQ(stats["ranks"], 2);
+  const std::uint64_t rounds = stats["rounds"];
+  EXPECT_GE(rounds, 1u);
+  EXPECT_EQ(stats["spp"], rounds);
+  const ImageRGB img = read_exr(dir + "/i.exr");
+  double sum = 0;
+  for (float v : img.rgb) sum += v;
+  EXPECT_GT(sum, 0.0);
+}
+
+}  // namespace
+}  // namespace bp::test
+#endif  // BP_MPIRUN
