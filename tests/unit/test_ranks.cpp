@@ -39,7 +39,7 @@ TEST(RankChainSeed, RankZeroKeepsTheSeedAndEveryOtherRankGetsItsOwn) {
   EXPECT_NE(rank_chain_seed(7, 1) + 1, rank_chain_seed(8, 1));
 }
 
-TEST(Ranks, OneProcessCollectivesKeepItsValues) {
+TEST(OneRank, CollectivesKeepItsValues) {
   const Ranks one;
   EXPECT_EQ(one.size(), 1);
   EXPECT_TRUE(one.root());
