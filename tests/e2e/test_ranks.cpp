@@ -1,7 +1,9 @@
 // One render on two MPI ranks (DESIGN.md §8) against one process, through `mpirun -np 2` and the
 // real binary. Built only where CMake found MPI and Open MPI's mpirun (BP_MPIRUN). The flags keep
 // mpirun working in a CI container: as root, two ranks whatever the core count, and shared memory
-// between the ranks without the network or ptrace (CMA) that a container may lack.
+// between the ranks without the network or ptrace (CMA) that a container may lack. Under
+// scripts/test-sanitizers.sh the ranks unwind malloc stacks fully, so that tests/sanitizers/lsan.supp
+// can name the Open MPI libraries whose objects outlive MPI_Finalize (they have no frame pointers).
 #ifdef BP_MPIRUN
 #include "e2e/cli_runner.h"
 #include "image/image.h"
@@ -20,7 +22,8 @@ namespace {
 
 namespace fs = std::filesystem;
 const std::string kCornell = std::string(BP_SOURCE_DIR) + "/scenes/cornell-box.gltf ";
-const std::string kTwoRanks = std::string("timeout 300 ") + BP_MPIRUN +
+const std::string kTwoRanks = std::string("ASAN_OPTIONS=\"${ASAN_OPTIONS:+$ASAN_OPTIONS:}fast_unwind_on_malloc=0\" ") +
+                              "timeout 300 " + BP_MPIRUN +
                               " --oversubscribe --allow-run-as-root --mca pml ob1 --mca btl self,vader"
                               " --mca btl_vader_single_copy_mechanism none -np 2 ";
 
