@@ -43,6 +43,10 @@ void Ranks::sum_to_root(std::vector<std::uint64_t>& values) const {
              MPI_COMM_WORLD);
 }
 
+void Ranks::wait_for_all() const {
+  if (size_ > 1) MPI_Barrier(MPI_COMM_WORLD);
+}
+
 int Ranks::max_over_ranks(int value) const {
   if (size_ == 1) return value;
   int out = value;
@@ -91,6 +95,7 @@ void RankSession::abort(int exit_code) const {
 
 void Ranks::sum_to_root(std::vector<double>&) const {}
 void Ranks::sum_to_root(std::vector<std::uint64_t>&) const {}
+void Ranks::wait_for_all() const {}
 int Ranks::max_over_ranks(int value) const { return value; }
 void Ranks::broadcast_bytes(void*, std::size_t) const {}
 std::string Ranks::first_failure(const std::string& failure) const { return failure; }

@@ -20,6 +20,8 @@ class Ranks {
   // Every rank's values added into root's, in place there (others keep theirs); as many on each rank.
   void sum_to_root(std::vector<double>& values) const;
   void sum_to_root(std::vector<std::uint64_t>& values) const;
+  // Returns once every rank has called it.
+  void wait_for_all() const;
   // The largest of every rank's value, on every rank.
   int max_over_ranks(int value) const;
   // Root's value, on every rank.

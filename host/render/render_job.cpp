@@ -125,6 +125,9 @@ void render_rounds(RenderState& s, RenderObserver& observer) {
   const RenderSpec& o = s.spec;
   std::uint64_t saved_rounds = s.first_round;
   double last_save = 0.0;
+  // Every rank starts the rounds together, so that a Ctrl-C once root has started finds every rank
+  // ready to stop (its handler installed), however long its kernel builds took.
+  s.ranks.wait_for_all();
   observer.started();
   observer.note(printf_text("rendering %s (%dx%d, %s%s, %zu triangles, %u patches) on %s", o.scene.c_str(),
                             s.scene.width, s.scene.height, o.mode.c_str(),
