@@ -63,6 +63,21 @@ void expect_regions_agree(const std::string& options, int runs, const std::strin
   }
 }
 
+// The largest relative difference of two images over every pixel and channel (NaN: infinite).
+double largest_relative_difference(const ImageRGB& a, const ImageRGB& b, std::size_t* at = nullptr) {
+  EXPECT_EQ(a.rgb.size(), b.rgb.size());
+  double worst = 0.0;
+  for (std::size_t i = 0; i < std::min(a.rgb.size(), b.rgb.size()); ++i) {
+    const double x = a.rgb[i], y = b.rgb[i], scale = std::max(std::abs(x), std::abs(y));
+    const double relative = scale > 0.0 ? std::abs(x - y) / scale : 0.0;
+    if (!(relative <= worst)) {
+      worst = std::isnan(relative) ? INFINITY : relative;
+      if (at) *at = i;
+    }
+  }
+  return worst;
+}
+
 // PT's samples are a pure function of (seed, pixel, sample index): two ranks, each with its slices of
 // the same rounds, give the one-process image up to the order of float sums.
 TEST(Ranks, TwoRanksGiveTheOneProcessPathTracedImage) {
@@ -84,18 +99,31 @@ TEST(Ranks, TwoRanksGiveTheOneProcessPathTracedImage) {
 
   const ImageRGB a = read_exr(dir + "/two.exr"), b = read_exr(dir + "/one.exr");
   ASSERT_EQ(a.rgb.size(), b.rgb.size());
-  double worst = 0.0, sum = 0.0;
-  std::size_t worst_at = 0;
-  for (std::size_t i = 0; i < a.rgb.size(); ++i) {
-    const double x = a.rgb[i], y = b.rgb[i], scale = std::max(std::abs(x), std::abs(y));
-    const double relative = scale > 0.0 ? std::abs(x - y) / scale : 0.0;
-    if (!(relative <= worst)) worst = relative, worst_at = i;  // NaN counts as the worst
-    sum += y;
-  }
+  double sum = 0.0;
+  for (float v : b.rgb) sum += v;
   EXPECT_GT(sum, 0.0);
+  std::size_t worst_at = 0;
+  const double worst = largest_relative_difference(a, b, &worst_at);
   std::printf("largest relative difference, two ranks against one process: %.3g\n", worst);
   EXPECT_LT(worst, 1e-4) << "pixel " << worst_at / 3 << " channel " << worst_at % 3 << ": " << a.rgb[worst_at]
                          << " on two ranks, " << b.rgb[worst_at] << " in one process";
+}
+
+// A checkpoint written by rank 0 of two and resumed on two ranks: PT gives one process's
+// uninterrupted image (the checkpoint holds the reduced sums; the batches end on the same grid).
+TEST(Ranks, StoppedAndResumedOnTwoRanksEqualsOneProcess) {
+  const std::string dir = fresh_dir("ranks_checkpoint");
+  const std::string common = "render " + kCornell + "--width 32 --height 32 --seed 3 ";
+  ASSERT_EQ(run_cli(common + "--spp 48 --out " + dir + "/whole").exit_code, 0);
+  CliResult r = run_on_two_ranks(common + "--spp 16 --checkpoint " + dir + "/ck --out " + dir + "/first");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = run_on_two_ranks(common + "--spp 48 --resume " + dir + "/ck --out " + dir + "/rest --stats " + dir +
+                       "/rest.json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const nlohmann::json stats = read_stats(dir + "/rest.json");
+  EXPECT_EQ(stats["resumed_from_rounds"], 16);
+  EXPECT_EQ(stats["spp"], 48);
+  EXPECT_LT(largest_relative_difference(read_exr(dir + "/rest.exr"), read_exr(dir + "/whole.exr")), 1e-4);
 }
 
 TEST(Ranks, RayBundlesOnTwoRanksAgreeWithOneProcess) {
