@@ -2,14 +2,35 @@
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "device/opencl.h"
+#include "render/ranks.h"
 #include "scene/gltf_loader.h"
 
 #include <cstdio>
+#include <optional>
 #include <string>
 #include <vector>
 
+namespace {
+
+// One line and the exit code. On several MPI ranks the failure may be this rank's alone, with the
+// others waiting for it: every rank ends with this code, and a rank other than 0 names itself. Before
+// the job is joined (the command line, alike on every rank) rank 0 alone says it.
+int fail(const std::optional<bp::RankSession>& session, const std::exception& e, int exit_code) {
+  if (!session && bp::launched_rank() != 0) return exit_code;
+  const bool several_ranks = session && session->ranks().size() > 1;
+  const std::string rank = several_ranks && !session->ranks().root()
+                               ? "rank " + std::to_string(session->ranks().rank()) + ": "
+                               : "";
+  std::fprintf(stderr, "bundlepath: %s%s\n", rank.c_str(), e.what());
+  if (several_ranks) session->abort(exit_code);
+  return exit_code;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   std::vector<std::string> args(argv + 1, argv + argc);
+  std::optional<bp::RankSession> session;  // render: the MPI job when mpirun started this process
   try {
     if (args.empty() || args[0] == "-h" || args[0] == "--help" || args[0] == "help") {
       std::fputs(bp::main_help(), args.empty() ? stderr : stdout);
@@ -30,20 +51,20 @@ int main(int argc, char** argv) {
       if (!rest.empty()) throw bp::UsageError("devices takes no arguments");
       return bp::run_devices();
     }
-    if (command == "render") return bp::run_render(bp::parse_render_options(rest));
+    if (command == "render") {
+      const bp::RenderOptions options = bp::parse_render_options(rest);
+      session.emplace();
+      return bp::run_render(options, session->ranks());
+    }
     if (command == "compare") return bp::run_compare(rest);
     throw bp::UsageError("unknown command '" + command + "' (commands: render, devices; see --help)");
   } catch (const bp::UsageError& e) {
-    std::fprintf(stderr, "bundlepath: %s\n", e.what());
-    return 2;
+    return fail(session, e, 2);
   } catch (const bp::NoPlatformError& e) {
-    std::fprintf(stderr, "bundlepath: %s\n", e.what());
-    return 2;
+    return fail(session, e, 2);
   } catch (const bp::SceneError& e) {
-    std::fprintf(stderr, "bundlepath: %s\n", e.what());
-    return 3;
+    return fail(session, e, 3);
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "bundlepath: %s\n", e.what());
-    return 1;
+    return fail(session, e, 1);
   }
 }

@@ -43,6 +43,8 @@ const char* render_help() {
 
 Renders SCENE (glTF 2.0: .gltf or .glb) and writes PREFIX.exr (linear float32) and PREFIX.png
 (tone-mapped sRGB). Ctrl-C stops after the current batch and writes what is done (exit 130).
+Under `mpirun -np N` (a build with MPI) the N ranks render one image: each its share of every
+batch, rank 0 sums them and alone writes the files (README, "Several ranks: MPI").
 
 options (defaults in brackets):
   --out PREFIX        output path without extension            [out/<scene name>]

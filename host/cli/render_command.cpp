@@ -1,5 +1,5 @@
 // bundlepath render: the options go to a RenderJob (render/render_job.h); this prints its notes,
-// its progress bar and its summary, and turns the result into an exit code.
+// its progress bar and its summary (on MPI rank 0 only), and turns the result into an exit code.
 #include "cli/commands.h"
 
 #include "cli/interrupt.h"
@@ -15,21 +15,28 @@ namespace {
 
 class CliObserver : public RenderObserver {
  public:
-  explicit CliObserver(std::string mode) : mode_(std::move(mode)) {}
-  void note(const std::string& line) override { std::fprintf(stderr, "bundlepath: %s\n", line.c_str()); }
+  // speaks: this process prints (MPI rank 0, or the only process); every rank hears Ctrl-C.
+  CliObserver(std::string mode, bool speaks) : mode_(std::move(mode)), speaks_(speaks) {}
+  void note(const std::string& line) override {
+    if (speaks_) std::fprintf(stderr, "bundlepath: %s\n", line.c_str());
+  }
   void started() override {
-    install_interrupt_handlers();
-    bar_.emplace(mode_);
+    install_interrupt_handlers(speaks_);
+    if (speaks_) bar_.emplace(mode_);
   }
   void progress(const RenderProgressReport& p) override {
-    bar_->update(p.fraction, p.rate, p.mrays_per_second, p.elapsed_seconds, p.rate_unit, p.estimated_rel_mse,
-                 p.eta_seconds);
+    if (bar_)
+      bar_->update(p.fraction, p.rate, p.mrays_per_second, p.elapsed_seconds, p.rate_unit, p.estimated_rel_mse,
+                   p.eta_seconds);
   }
-  void finished() override { bar_->finish(); }
+  void finished() override {
+    if (bar_) bar_->finish();
+  }
   const std::atomic<bool>& stop_requested() override { return bp::stop_requested(); }
 
  private:
   std::string mode_;
+  bool speaks_;
   std::optional<ProgressBar> bar_;
 };
 
@@ -62,11 +69,11 @@ void print_summary(const RenderOptions& o, const RenderResult& r) {
 
 }  // namespace
 
-int run_render(const RenderOptions& o) {
-  CliObserver observer(o.mode);
-  RenderJob job(o);
+int run_render(const RenderOptions& o, const Ranks& ranks) {
+  CliObserver observer(o.mode, ranks.root());
+  RenderJob job(o, ranks);
   const RenderResult result = job.run(observer);
-  print_summary(o, result);
+  if (ranks.root()) print_summary(o, result);
   if (!result.device_failure.empty()) return 1;
   return result.outcome.interrupted ? 130 : 0;
 }

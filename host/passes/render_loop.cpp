@@ -29,13 +29,17 @@ RenderOutcome run_progressive(ProgressivePass& pass, const RenderBudget& budget,
   out.rounds = first_round;
   while (true) {
     double elapsed = std::chrono::duration<double>(clock::now() - start).count();
-    if (budget.rounds && out.rounds >= budget.rounds) break;
-    if (budget.seconds > 0.0 && elapsed >= budget.seconds) break;
-    if (budget.target_reached && budget.target_reached()) {
-      out.target_reached = true;
+    LoopStop stop = LoopStop::none;
+    if (budget.rounds && out.rounds >= budget.rounds) stop = LoopStop::rounds;
+    else if (budget.seconds > 0.0 && elapsed >= budget.seconds) stop = LoopStop::time;
+    else if (budget.target_reached && budget.target_reached()) stop = LoopStop::target_reached;
+    else if (stop_requested.load()) stop = LoopStop::interrupted;
+    if (budget.agree_stop) stop = budget.agree_stop(stop);
+    if (stop != LoopStop::none) {
+      out.target_reached = stop == LoopStop::target_reached;
+      out.interrupted = stop == LoopStop::interrupted;
       break;
     }
-    if (stop_requested.load()) { out.interrupted = true; break; }
     std::uint32_t n = batch_size(out.rounds, budget.rounds, pass.max_batch());
     BatchCounts counts;
     try {

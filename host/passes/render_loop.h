@@ -12,12 +12,19 @@
 
 namespace bp {
 
+// Why the render loop ends before a batch; of several, the larger wins (one process asks them in
+// this order, from the last).
+enum class LoopStop : int { none = 0, interrupted, target_reached, time, rounds };
+
 struct RenderBudget {
   std::uint64_t rounds = 0;    // 0: no round target
   double seconds = 0.0;        // 0: no time budget
   // A further end, asked after each batch's progress report (--target-error: the estimated relMSE
   // is low enough); empty: none.
   std::function<bool()> target_reached = nullptr;
+  // Several processes rendering one image (render/rank_pass.h): given this process's reason to stop
+  // before a batch, returns the one they all agree on, so all stop at the same round; empty: none.
+  std::function<LoopStop(LoopStop)> agree_stop = nullptr;
 };
 
 struct RenderProgress {

@@ -30,18 +30,6 @@ void add(BatchCounts& total, const BatchCounts& c) {
   total.nonfinite_samples += c.nonfinite_samples;
 }
 
-void clear(Accumulator& a) {
-  std::fill(a.sum.begin(), a.sum.end(), 0.0);
-  std::fill(a.raw_sum.begin(), a.raw_sum.end(), 0.0);
-  a.samples_per_pixel = 0;
-}
-
-void add_into(Accumulator& total, const Accumulator& part) {
-  for (std::size_t i = 0; i < total.sum.size(); ++i) total.sum[i] += part.sum[i];
-  for (std::size_t i = 0; i < total.raw_sum.size(); ++i) total.raw_sum[i] += part.raw_sum[i];
-  total.samples_per_pixel += part.samples_per_pixel;
-}
-
 std::string lane_label(const DeviceLane& lane) {
   return "device [" + std::to_string(lane.device_index) + "] " + lane.device_name;
 }
@@ -81,7 +69,7 @@ std::vector<std::uint64_t> ParallelPass::pt_split(std::uint64_t first, std::uint
 
 void ParallelPass::run_lane(DeviceLane& lane, std::uint64_t first, std::uint64_t end, BatchCounts& counts) {
   const auto start = std::chrono::steady_clock::now();
-  clear(*lane.accum);
+  lane.accum->clear();
   if (lane.device_index == fail_device_ && lane.batches == fail_batch_)
     throw DeviceError("simulated failure (" + std::string(kFailDeviceVariable) + ")");
   auto sampling = std::chrono::steady_clock::now();
@@ -144,7 +132,7 @@ BatchCounts ParallelPass::run(std::uint64_t first, std::uint32_t count) {
   BatchCounts total;
   for (std::size_t i = 0; i < lanes_.size(); ++i) {
     DeviceLane& lane = lanes_[i];
-    add_into(lane.pt ? pt_total_ : rb_total_, *lane.accum);
+    (lane.pt ? pt_total_ : rb_total_).add(*lane.accum);
     add(total, work[i].counts);
     (lane.pt ? lane.pt_samples : lane.rb_iterations) += work[i].end - work[i].first;
     ++lane.batches;

@@ -23,9 +23,11 @@ void resume(RenderState& s) {
   if (c.options != s.key)
     throw UsageError("--resume " + o.resume_path + " was saved with other options:\n  saved: " + c.options +
                      "\n  now:   " + s.key);
-  if (!s.pt.empty() && c.pt) s.pt_accum = *c.pt;
-  if (s.rb && c.rb) s.rb_accum = *c.rb;
-  if (s.rb && c.rb_state) s.rb->load_state(*c.rb_state);
+  if (s.ranks.root()) {  // the render's sums (on several ranks root's alone are the render's)
+    if (!s.pt.empty() && c.pt) s.pt_accum = *c.pt;
+    if (s.rb && c.rb) s.rb_accum = *c.rb;
+  }
+  if (s.rb && c.rb_state) s.rb->load_state(*c.rb_state);  // every rank's chain from the saved one
   s.first_round = c.rounds;
   s.earlier_seconds = c.render_seconds;
 }
@@ -101,13 +103,20 @@ void build_schedule(RenderState& s) {
       }
       if (lane.pt || lane.rb) lanes.push_back(lane);
     }
-    auto parallel = std::make_unique<ParallelPass>(std::move(lanes), s.shape, s.pt_accum, s.rb_accum);
+    auto parallel = std::make_unique<ParallelPass>(std::move(lanes), s.shape, s.pt_rank_accum(), s.rb_rank_accum());
     s.lanes = parallel.get();
     s.pass = parallel.get();
     s.schedule = std::move(parallel);
   } else if (s.shape) {
     s.schedule = std::make_unique<CombinedPass>(*s.pt.front(), *s.rb, *s.shape);
     s.pass = s.schedule.get();
+  }
+  if (s.several_ranks()) {
+    std::vector<RankSums> sums;
+    if (!s.pt.empty()) sums.push_back(RankSums{&s.pt_rank_accum(), &s.pt_accum});
+    if (s.rb) sums.push_back(RankSums{&s.rb_rank_accum(), &s.rb_accum});
+    s.rank_schedule = std::make_unique<RankPass>(*s.pass, s.ranks, std::move(sums));
+    s.pass = s.rank_schedule.get();
   }
   if (s.shape) {
     s.rounds = o.spp ? (o.spp + s.shape->pt_samples - 1) / s.shape->pt_samples
@@ -125,6 +134,9 @@ void render_rounds(RenderState& s, RenderObserver& observer) {
   const RenderSpec& o = s.spec;
   std::uint64_t saved_rounds = s.first_round;
   double last_save = 0.0;
+  // Every rank starts the rounds together, so that a Ctrl-C once root has started finds every rank
+  // ready to stop (its handler installed), however long its kernel builds took.
+  s.ranks.wait_for_all();
   observer.started();
   observer.note(printf_text("rendering %s (%dx%d, %s%s, %zu triangles, %u patches) on %s", o.scene.c_str(),
                             s.scene.width, s.scene.height, o.mode.c_str(),
@@ -137,15 +149,20 @@ void render_rounds(RenderState& s, RenderObserver& observer) {
   const bool counts_iterations = o.mode == "rb" || (s.shape && s.shape->pt_samples == 0);
   const double samples_per_round = counts_iterations ? (s.shape ? s.shape->rb_iterations : 1.0)
                                                      : (s.shape ? s.shape->pt_samples * pixels : pixels);
-  RenderBudget budget{s.rounds, o.seconds, {}};
+  // On several ranks root alone decides when the time or --target-error ends the render; every rank
+  // stops at the round they agree on (rounds and Ctrl-C on any rank, else root's reason).
+  RenderBudget budget{s.rounds, s.ranks.root() ? o.seconds : 0.0, {}};
+  if (s.several_ranks())
+    budget.agree_stop = [&](LoopStop stop) { return LoopStop(s.ranks.max_over_ranks(int(stop))); };
   // --target-error: done once enough batches say the relMSE is at most X (checked after each batch).
-  if (o.target_error > 0.0)
+  if (o.target_error > 0.0 && s.ranks.root())
     budget.target_reached = [&] {
       return s.error_estimate->batches() >= kMinBatchesForTarget && s.estimated_rel_mse <= o.target_error;
     };
   s.outcome = run_progressive(
       *s.pass, budget, observer.stop_requested(),
       [&](const RenderProgress& p) {
+        if (!s.ranks.root()) return;  // its accumulators hold its last batch only
         double secs = std::max(p.elapsed_seconds, 1e-9);
         s.error_estimate->add(p.rounds_done, s.round_sums);
         s.estimated_rel_mse = s.error_estimate->estimated_rel_mse(s.round_sums);
@@ -178,19 +195,26 @@ void render_rounds(RenderState& s, RenderObserver& observer) {
   // After a device failed its passes are past the rounds the accumulators hold: the checkpoint keeps
   // its last save.
   if (!s.outcome.failure.empty()) return;
-  if (!o.checkpoint_path.empty() && (saved_rounds != s.outcome.rounds || o.resume_path.empty()))
+  if (s.ranks.root() && !o.checkpoint_path.empty() && (saved_rounds != s.outcome.rounds || o.resume_path.empty()))
     save_checkpoint(s, s.outcome.rounds, s.outcome.seconds);
 }
 
-// Samples and iterations of the whole render, and each device's part of it.
+// Samples and iterations of the whole render, and each device's part of it (this rank's devices).
 void count_work(RenderState& s, RenderResult& r) {
-  const std::uint64_t rounds = s.outcome.rounds;
-  r.pt_samples = s.shape ? rounds * s.shape->pt_samples : (!s.pt.empty() ? rounds : 0);
-  r.rb_iterations = s.shape ? rounds * s.shape->rb_iterations : (s.rb ? rounds : 0);
+  auto pt_samples = [&](std::uint64_t rounds) -> std::uint64_t {
+    return s.shape ? rounds * s.shape->pt_samples : !s.pt.empty() ? rounds : 0;
+  };
+  auto rb_iterations = [&](std::uint64_t rounds) -> std::uint64_t {
+    return s.shape ? rounds * s.shape->rb_iterations : s.rb ? rounds : 0;
+  };
+  r.pt_samples = pt_samples(s.outcome.rounds);
+  r.rb_iterations = rb_iterations(s.outcome.rounds);
   r.device_failure = s.outcome.failure;
-  if (!s.lanes) {  // one device: all of it (a resumed render's earlier runs too)
+  if (!s.lanes) {  // one device: all of it (a resumed render's earlier runs too), or this rank's part
     const DeviceInfo& info = s.devices.front()->context.info;
-    r.devices.push_back(DeviceWorkReport{info.index, info.device_name, r.pt_samples, r.rb_iterations, s.outcome.seconds});
+    const std::uint64_t rounds = s.rank_schedule ? s.rank_schedule->rank_rounds() : s.outcome.rounds;
+    r.devices.push_back(DeviceWorkReport{info.index, info.device_name, pt_samples(rounds), rb_iterations(rounds),
+                                         s.outcome.seconds});
     return;
   }
   for (const auto& device : s.devices) {  // in --device's order; an idle one did nothing
@@ -205,11 +229,11 @@ void count_work(RenderState& s, RenderResult& r) {
 
 }  // namespace
 
-RenderJob::RenderJob(const RenderSpec& spec) : spec_(spec) {}
+RenderJob::RenderJob(const RenderSpec& spec, const Ranks& ranks) : spec_(spec), ranks_(ranks) {}
 RenderJob::~RenderJob() = default;
 
 RenderResult RenderJob::run(RenderObserver& observer) {
-  RenderState s(spec_);
+  RenderState s(spec_, ranks_);
   s.scene = prepare_scene(spec_, [&](const std::string& line) { observer.note(line); });
   choose_round(s);
   open_devices(s);
@@ -232,6 +256,8 @@ RenderResult RenderJob::run(RenderObserver& observer) {
   r.error_batches = s.error_estimate->batches();
   r.error_batch_rounds = s.error_estimate->batch_rounds();
   count_work(s, r);
+  r.ranks = s.ranks.size();
+  if (!s.ranks.root()) return r;  // root alone holds the render's sums and writes its files
   RenderLayers layers = make_layers(s);
   write_images(s, layers, r);
   r.reference_metrics = compare_layers(s, layers);

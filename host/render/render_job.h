@@ -4,6 +4,7 @@
 #pragma once
 #include "image/image.h"
 #include "passes/render_loop.h"
+#include "render/ranks.h"
 #include "render/render_spec.h"
 
 #include <nlohmann/json.hpp>
@@ -60,7 +61,8 @@ struct RenderResult {
   std::vector<std::pair<std::string, ErrorMetrics>> reference_metrics;  // per layer, with --reference
   double estimated_rel_mse = NAN;
   std::uint64_t error_batches = 0, error_batch_rounds = 0;
-  std::vector<DeviceWorkReport> devices;
+  std::vector<DeviceWorkReport> devices;            // this rank's
+  int ranks = 1;                                    // the processes that rendered it (MPI ranks)
   // The image's layers as written ("" the combined image; render_outputs.h), and the stats (written
   // to --stats when given).
   std::vector<std::pair<std::string, ImageRGB>> layers;
@@ -70,7 +72,9 @@ struct RenderResult {
 
 class RenderJob {
  public:
-  explicit RenderJob(const RenderSpec& spec);
+  // ranks: the processes rendering this image together (render/ranks.h); root alone writes files,
+  // notes and reports progress.
+  explicit RenderJob(const RenderSpec& spec, const Ranks& ranks = Ranks());
   ~RenderJob();
   RenderJob(const RenderJob&) = delete;
   RenderJob& operator=(const RenderJob&) = delete;
@@ -81,6 +85,7 @@ class RenderJob {
 
  private:
   RenderSpec spec_;
+  Ranks ranks_;
 };
 
 }  // namespace bp

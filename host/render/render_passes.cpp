@@ -67,10 +67,11 @@ void open_devices(RenderState& s) {
                                                        light_tree ? BP_LIGHT_SELECTION_TREE : BP_LIGHT_SELECTION_POWER));
 }
 
-// Where a pass adds its estimates: the render's accumulator on one device, its own on several.
-static Accumulator& pass_accumulator(RenderState& s, Accumulator& render_accum) {
-  if (!s.several_devices()) return render_accum;
-  return s.lane_accums.emplace_back(render_accum.width, render_accum.height, render_accum.keeps_raw());
+// Where a pass adds its estimates: the rank's accumulator on one device (the render's on one rank),
+// its own on several.
+static Accumulator& pass_accumulator(RenderState& s, Accumulator& rank_accum) {
+  if (!s.several_devices()) return rank_accum;
+  return s.lane_accums.emplace_back(rank_accum.width, rank_accum.height, rank_accum.keeps_raw());
 }
 
 static void build_rb_pass(RenderState& s, Accumulator& accum) {
@@ -95,6 +96,10 @@ void build_passes(RenderState& s) {
   // PT's unweighted sums also give the corrected RB level (image/rb_level.h).
   s.pt_accum = Accumulator(width, height, o.all_layers || rb_level_corrected(o));
   s.rb_accum = Accumulator(width, height, o.all_layers);
+  if (s.several_ranks()) {
+    s.pt_rank_batch = Accumulator(width, height, o.all_layers);
+    s.rb_rank_batch = Accumulator(width, height, o.all_layers);
+  }
 
   if (s.use_pt) {
     PathTracerSettings& settings = s.pt_settings;
@@ -108,7 +113,7 @@ void build_passes(RenderState& s) {
     settings.eye_direct_shared = s.eye_direct_shared;
     settings.kernel_options = s.kernel_options;
     for (std::size_t k = 0; k < s.roles.pt.size(); ++k) {
-      s.pt_pass_accums.push_back(&pass_accumulator(s, s.pt_accum));
+      s.pt_pass_accums.push_back(&pass_accumulator(s, s.pt_rank_accum()));
       s.pt.push_back(std::make_unique<PathTracerPass>(s.pt_device(k).context, s.pt_device(k).scene, s.camera,
                                                       settings, *s.pt_pass_accums.back()));
     }
@@ -116,7 +121,7 @@ void build_passes(RenderState& s) {
   if (s.use_rb) {
     const BundleSize size = bundle_size(scene, s.scene.patches);
     RayBundleSettings& rb = s.rb_settings;
-    rb.seed = o.seed;
+    rb.seed = rank_chain_seed(o.seed, s.ranks.rank());  // a chain of its own on each rank
     rb.bins = o.bins ? o.bins : default_bins(size);
     if (o.contact_depth >= 0.0f) rb.contact_depth_fraction = o.contact_depth;
     rb.warmup = o.warmup;
@@ -137,7 +142,7 @@ void build_passes(RenderState& s) {
       throw UsageError(e.what());
     }
     s.geometry = build_bundle_geometry(scene, s.scene.patches);
-    s.rb_pass_accum = &pass_accumulator(s, s.rb_accum);
+    s.rb_pass_accum = &pass_accumulator(s, s.rb_rank_accum());
     build_rb_pass(s, *s.rb_pass_accum);
   }
 }
@@ -163,10 +168,16 @@ static void choose_probed_shape(RenderState& s) {
   s.shape = s.probe->chosen;
 }
 
+// Whether --eye-direct auto has a choice to make: both estimators, with product weights.
+static bool eye_direct_is_auto(const RenderState& s) {
+  const bool eye_direct_auto = s.light_sampling && s.use_pt && s.use_rb && s.spec.eye_direct == "auto";
+  return eye_direct_auto && !s.pt.empty() && s.rb && s.weight_mode == BP_WEIGHTS_PRODUCT;
+}
+
 // --ratio auto: the probe picks c (or a resumed render takes the checkpoint's); --eye-direct auto:
 // shared below kEyeDirectSharedBelowSpp PT samples per pixel, or what a resumed render was saved with.
-// Both passes get the chosen c's weights before the first counted sample.
-void choose_auto_settings(RenderState& s, RenderObserver& observer) {
+// Sets s.shape and s.eye_direct_shared; the passes are not changed yet.
+static void decide_auto_settings(RenderState& s, RenderObserver& observer) {
   const RenderSpec& o = s.spec;
   if (ratio_is_auto(o)) {
     if (s.resumed) {
@@ -177,9 +188,7 @@ void choose_auto_settings(RenderState& s, RenderObserver& observer) {
       choose_probed_shape(s);
     }
   }
-  const bool eye_direct_auto = s.light_sampling && s.use_pt && s.use_rb && o.eye_direct == "auto";
-  // Where it is pt, the ray-bundle pass is made again without the eye chain.
-  if (eye_direct_auto && !s.pt.empty() && s.rb && s.weight_mode == BP_WEIGHTS_PRODUCT) {
+  if (eye_direct_is_auto(s)) {
     std::optional<bool> saved = s.resumed ? eye_direct_shared_of_key(s.resumed->options) : std::nullopt;
     if (saved) {
       s.eye_direct_shared = *saved;
@@ -191,7 +200,9 @@ void choose_auto_settings(RenderState& s, RenderObserver& observer) {
         t_pt = timing.pt_seconds_per_spp;
         t_rb = timing.rb_seconds_per_iteration;
       }
-      const double spp = expected_pt_spp(*s.shape, o.spp, o.iterations, o.seconds, t_pt, t_rb);
+      // N ranks render N times one rank's rounds in a --time (each rank with a machine of its own).
+      const double seconds = o.seconds * double(s.ranks.size());
+      const double spp = expected_pt_spp(*s.shape, o.spp, o.iterations, seconds, t_pt, t_rb);
       s.eye_direct_shared = spp < kEyeDirectSharedBelowSpp;
       observer.note(printf_text("--eye-direct auto: %s (about %.0f PT samples per pixel)",
                                 s.eye_direct_shared ? "shared" : "pt", spp));
@@ -201,11 +212,6 @@ void choose_auto_settings(RenderState& s, RenderObserver& observer) {
       s.probe->chosen =
           auto_ratio_shape(s.probe->pt_seconds_per_spp, s.probe->rb_seconds_per_iteration, s.probe->pt_time_share);
       choose_probed_shape(s);
-    }
-    if (!s.eye_direct_shared) {
-      for (auto& pt : s.pt) pt->set_eye_direct_shared(false);
-      s.rb_settings.eye_direct_shared = false;
-      build_rb_pass(s, *s.rb_pass_accum);
     }
   }
   if (s.probe && s.several_devices())
@@ -218,7 +224,21 @@ void choose_auto_settings(RenderState& s, RenderObserver& observer) {
                               "time share %.2f; probe %.2f s)",
                               ratio_text(*s.shape).c_str(), s.probe->pt_seconds_per_spp,
                               s.probe->rb_seconds_per_iteration, s.probe->pt_time_share, s.probe->probe_seconds));
-  if (ratio_is_auto(o)) {
+}
+
+// Both passes get the chosen c's weights before the first counted sample. On several ranks root's
+// probe decides, and every rank renders with its choices (the weights hold only if c is the same).
+void choose_auto_settings(RenderState& s, RenderObserver& observer) {
+  if (s.ranks.root()) decide_auto_settings(s, observer);
+  if (s.shape) s.ranks.broadcast(*s.shape);
+  s.ranks.broadcast(s.eye_direct_shared);
+  // Where it is pt, the ray-bundle pass is made again without the eye chain.
+  if (eye_direct_is_auto(s) && !s.eye_direct_shared) {
+    for (auto& pt : s.pt) pt->set_eye_direct_shared(false);
+    s.rb_settings.eye_direct_shared = false;
+    build_rb_pass(s, *s.rb_pass_accum);
+  }
+  if (ratio_is_auto(s.spec)) {
     s.ratio_n2_over_n1 = combined_weights(s.weight_mode, *s.shape).ratio_n2_over_n1;
     for (auto& pt : s.pt) pt->set_weight_ratio(s.ratio_n2_over_n1);
     s.rb->set_weight_ratio(s.ratio_n2_over_n1);

@@ -10,6 +10,8 @@
 #include "passes/ray_bundles.h"
 #include "passes/render_loop.h"
 #include "render/parallel_pass.h"
+#include "render/rank_pass.h"
+#include "render/ranks.h"
 #include "render/render_devices.h"
 #include "render/render_job.h"
 #include "render/render_scene.h"
@@ -25,8 +27,9 @@
 namespace bp {
 
 struct RenderState {
-  explicit RenderState(const RenderSpec& s) : spec(s) {}
+  RenderState(const RenderSpec& s, const Ranks& r) : spec(s), ranks(r) {}
   const RenderSpec& spec;
+  const Ranks& ranks;  // the processes rendering this image (render/rank_pass.h)
   RenderScene scene;
 
   std::vector<std::unique_ptr<RenderDevice>> devices;
@@ -43,7 +46,10 @@ struct RenderState {
 
   // The render's accumulators: what checkpoints, the error estimate and the image files read.
   Accumulator pt_accum, rb_accum;
-  // Several devices: each pass adds into an accumulator of its own, merged into the render's after
+  // Several ranks: this rank's sums of each batch, added into root's render accumulators after it
+  // (render/rank_pass.h).
+  Accumulator pt_rank_batch, rb_rank_batch;
+  // Several devices: each pass adds into an accumulator of its own, merged into the rank's after
   // every batch (render/parallel_pass.h).
   std::deque<Accumulator> lane_accums;
   std::vector<Accumulator*> pt_pass_accums;  // what each PT pass adds into
@@ -67,6 +73,7 @@ struct RenderState {
 
   std::unique_ptr<ProgressivePass> schedule;  // the combination or the devices' lanes, when there is one
   ParallelPass* lanes = nullptr;              // the schedule, on several devices
+  std::unique_ptr<RankPass> rank_schedule;    // the schedule's slices on this rank, on several ranks
   ProgressivePass* pass = nullptr;            // what the render loop runs
   std::uint64_t rounds = 0;                   // the round target (0: none)
   RenderOutcome outcome;
@@ -74,6 +81,10 @@ struct RenderState {
   RenderDevice& pt_device(std::size_t k = 0) { return *devices[roles.pt[k]]; }
   RenderDevice& rb_device() { return *devices[roles.rb]; }
   bool several_devices() const { return devices.size() > 1; }
+  bool several_ranks() const { return ranks.size() > 1; }
+  // Where this rank's passes end a batch: the render's accumulators on one rank.
+  Accumulator& pt_rank_accum() { return several_ranks() ? pt_rank_batch : pt_accum; }
+  Accumulator& rb_rank_accum() { return several_ranks() ? rb_rank_batch : rb_accum; }
 };
 
 // printf into a std::string, for the observer's notes.

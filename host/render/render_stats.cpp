@@ -129,6 +129,7 @@ nlohmann::json render_stats(const RenderState& s, const RenderResult& r) {
                                 {"rb_iterations", d.rb_iterations},
                                 {"busy_seconds", d.busy_seconds}});
   if (!r.device_failure.empty()) stats["device_failure"] = r.device_failure;
+  stats["ranks"] = r.ranks;  // MPI ranks; "devices" are rank 0's
   stats["mode"] = o.mode;
   stats["width"] = s.scene.width;
   stats["height"] = s.scene.height;
