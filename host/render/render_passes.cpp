@@ -94,10 +94,11 @@ void build_passes(RenderState& s) {
   const bool eye_direct_auto = s.light_sampling && s.use_pt && s.use_rb && o.eye_direct == "auto";
   s.eye_direct_shared = s.light_sampling && (o.eye_direct == "shared" || eye_direct_auto);
   // PT's unweighted sums also give the corrected RB level (image/rb_level.h).
-  s.pt_accum = Accumulator(width, height, o.all_layers || rb_level_corrected(o));
+  const bool pt_keeps_raw = o.all_layers || rb_level_corrected(o);
+  s.pt_accum = Accumulator(width, height, pt_keeps_raw);
   s.rb_accum = Accumulator(width, height, o.all_layers);
   if (s.several_ranks()) {
-    s.pt_rank_batch = Accumulator(width, height, o.all_layers);
+    s.pt_rank_batch = Accumulator(width, height, pt_keeps_raw);
     s.rb_rank_batch = Accumulator(width, height, o.all_layers);
   }
 
