@@ -9,9 +9,21 @@
 #include "render/render_stats.h"
 
 #include <cmath>
+#include <optional>
 
 namespace bp {
 namespace {
+
+// Each view's estimate after the rounds done (closing a batch where they end one), and the worst.
+void update_error_estimates(RenderState& s, std::optional<std::uint64_t> rounds_done) {
+  s.estimated_rel_mse = NAN;
+  for (RenderView& view : s.views) {
+    if (rounds_done) view.error_estimate->add(*rounds_done, view.round_sums);
+    view.estimated_rel_mse = view.error_estimate->estimated_rel_mse(view.round_sums);
+    if (std::isnan(s.estimated_rel_mse) || view.estimated_rel_mse > s.estimated_rel_mse)
+      s.estimated_rel_mse = view.estimated_rel_mse;
+  }
+}
 
 // A resumed render starts from the checkpoint's accumulators, ray-bundle state and round count.
 void resume(RenderState& s) {
@@ -23,37 +35,39 @@ void resume(RenderState& s) {
   if (c.options != s.key)
     throw UsageError("--resume " + o.resume_path + " was saved with other options:\n  saved: " + c.options +
                      "\n  now:   " + s.key);
-  if (!s.pt.empty() && c.pt) s.pt_accum = *c.pt;
-  if (s.rb && c.rb) s.rb_accum = *c.rb;
+  if (!s.pt.empty() && c.pt) s.first_view().pt_accum = *c.pt;
+  if (s.rb && c.rb) s.first_view().rb_accum = *c.rb;
   if (s.rb && c.rb_state) s.rb->load_state(*c.rb_state);
   s.first_round = c.rounds;
   s.earlier_seconds = c.render_seconds;
 }
 
-// The error estimate (DESIGN.md §9): batches of both estimators together, each long enough for RB's
-// chain -- kErrorBatchRbIterations iterations (--error-batch), in rounds of the combination.
+// The error estimate (DESIGN.md §9), one per view: batches of both estimators together, each long
+// enough for RB's chain -- kErrorBatchRbIterations iterations (--error-batch), in rounds of the combination.
 void start_error_estimate(RenderState& s) {
   const RenderSpec& o = s.spec;
   const std::uint64_t rb_batch_iterations = o.error_batch ? o.error_batch : kErrorBatchRbIterations;
   const std::uint64_t error_batch_rounds =
       !s.rb ? 1 : s.shape ? (rb_batch_iterations + s.shape->rb_iterations - 1) / s.shape->rb_iterations
                           : rb_batch_iterations;
-  // The image times the rounds: pt.sum / N1 + rb.sum / N2 per round (eq. 3; N1 = N2 = 1 alone).
-  if (!s.pt.empty() && (!s.shape || s.shape->pt_samples > 0)) {
-    s.round_sums.first = &s.pt_accum.sum;
-    s.round_sums.first_scale = s.shape ? 1.0 / s.shape->pt_samples : 1.0;
-  }
-  if (s.rb) {
-    s.round_sums.second = &s.rb_accum.sum;
-    s.round_sums.second_scale = s.shape ? 1.0 / s.shape->rb_iterations : 1.0;
-  }
   const int width = s.scene.width, height = s.scene.height;
-  if (s.resumed && s.resumed->error_estimate)
-    s.error_estimate.emplace(BatchMeansErrorEstimate::from_state(*s.resumed->error_estimate, width, height));
-  else
-    s.error_estimate.emplace(width, height, error_batch_rounds, o.error_levels, s.first_round,
-                             s.first_round ? &s.round_sums : nullptr);
-  s.estimated_rel_mse = s.error_estimate->estimated_rel_mse(s.round_sums);
+  for (RenderView& view : s.views) {
+    // The image times the rounds: pt.sum / N1 + rb.sum / N2 per round (eq. 3; N1 = N2 = 1 alone).
+    if (!s.pt.empty() && (!s.shape || s.shape->pt_samples > 0)) {
+      view.round_sums.first = &view.pt_accum.sum;
+      view.round_sums.first_scale = s.shape ? 1.0 / s.shape->pt_samples : 1.0;
+    }
+    if (s.rb) {
+      view.round_sums.second = &view.rb_accum.sum;
+      view.round_sums.second_scale = s.shape ? 1.0 / s.shape->rb_iterations : 1.0;
+    }
+    if (s.resumed && s.resumed->error_estimate)
+      view.error_estimate.emplace(BatchMeansErrorEstimate::from_state(*s.resumed->error_estimate, width, height));
+    else
+      view.error_estimate.emplace(width, height, error_batch_rounds, o.error_levels, s.first_round,
+                                  s.first_round ? &view.round_sums : nullptr);
+  }
+  update_error_estimates(s, std::nullopt);
 }
 
 void save_checkpoint(RenderState& s, std::uint64_t rounds, double seconds) {
@@ -61,12 +75,12 @@ void save_checkpoint(RenderState& s, std::uint64_t rounds, double seconds) {
   c.options = s.key;
   c.rounds = rounds;
   c.render_seconds = s.earlier_seconds + seconds;
-  if (!s.pt.empty()) c.pt = s.pt_accum;
+  if (!s.pt.empty()) c.pt = s.first_view().pt_accum;
   if (s.rb) {
-    c.rb = s.rb_accum;
+    c.rb = s.first_view().rb_accum;
     c.rb_state = s.rb->save_state();
   }
-  c.error_estimate = s.error_estimate->state();
+  c.error_estimate = s.first_view().error_estimate->state();
   write_checkpoint(s.spec.checkpoint_path, c);
 }
 
@@ -74,6 +88,12 @@ void save_checkpoint(RenderState& s, std::uint64_t rounds, double seconds) {
 void build_schedule(RenderState& s) {
   const RenderSpec& o = s.spec;
   s.pass = !s.pt.empty() ? static_cast<ProgressivePass*>(s.pt.front().get()) : s.rb.get();
+  if (s.walkthrough() && !s.pt.empty()) {  // every view's path tracer, the same samples
+    std::vector<ProgressivePass*> views;
+    for (auto& pt : s.pt) views.push_back(pt.get());
+    s.each_view_pt = std::make_unique<EachViewPass>(std::move(views));
+    s.pass = s.each_view_pt.get();
+  }
   s.rounds = o.mode == "rb" ? o.iterations : o.spp;
   if (s.several_devices()) {
     std::vector<DeviceLane> lanes;
@@ -92,12 +112,14 @@ void build_schedule(RenderState& s) {
       }
       if (lane.pt || lane.rb) lanes.push_back(lane);
     }
-    auto parallel = std::make_unique<ParallelPass>(std::move(lanes), s.shape, s.pt_accum, s.rb_accum);
+    auto parallel = std::make_unique<ParallelPass>(std::move(lanes), s.shape, s.first_view().pt_accum,
+                                                   s.first_view().rb_accum);
     s.lanes = parallel.get();
     s.pass = parallel.get();
     s.schedule = std::move(parallel);
   } else if (s.shape) {
-    s.schedule = std::make_unique<CombinedPass>(*s.pt.front(), *s.rb, *s.shape);
+    ProgressivePass& pt = s.each_view_pt ? *s.each_view_pt : static_cast<ProgressivePass&>(*s.pt.front());
+    s.schedule = std::make_unique<CombinedPass>(pt, *s.rb, *s.shape);
     s.pass = s.schedule.get();
   }
   if (s.shape) {
@@ -132,15 +154,15 @@ void render_rounds(RenderState& s, RenderObserver& observer) {
   // --target-error: done once enough batches say the relMSE is at most X (checked after each batch).
   if (o.target_error > 0.0)
     budget.target_reached = [&] {
-      return s.error_estimate->batches() >= kMinBatchesForTarget && s.estimated_rel_mse <= o.target_error;
+      return s.first_view().error_estimate->batches() >= kMinBatchesForTarget && s.estimated_rel_mse <= o.target_error;
     };
   s.outcome = run_progressive(
       *s.pass, budget, observer.stop_requested(),
       [&](const RenderProgress& p) {
         double secs = std::max(p.elapsed_seconds, 1e-9);
-        s.error_estimate->add(p.rounds_done, s.round_sums);
-        s.estimated_rel_mse = s.error_estimate->estimated_rel_mse(s.round_sums);
+        update_error_estimates(s, p.rounds_done);
         RenderProgressReport report;
+        report.frames = s.views.size();
         report.fraction = p.fraction;
         if (o.target_error > 0.0 && std::isfinite(s.estimated_rel_mse) && p.rounds_done > s.first_round) {
           // relMSE ∝ 1/N: X is reached after N·relMSE/X rounds, at this run's seconds per round.
@@ -218,15 +240,24 @@ RenderResult RenderJob::run(RenderObserver& observer) {
   r.combined = s.shape.has_value();
   r.mrays_per_second = s.outcome.seconds > 0 ? double(s.outcome.rays) / s.outcome.seconds * 1e-6 : 0.0;
   r.estimated_rel_mse = s.estimated_rel_mse;
-  r.error_batches = s.error_estimate->batches();
-  r.error_batch_rounds = s.error_estimate->batch_rounds();
+  r.error_batches = s.first_view().error_estimate->batches();
+  r.error_batch_rounds = s.first_view().error_estimate->batch_rounds();
   count_work(s, r);
-  RenderLayers layers = make_layers(s);
-  write_images(s, layers, r);
-  r.reference_metrics = compare_layers(s, layers);
+  for (const RenderView& view : s.views) {
+    RenderLayers layers = make_layers(s, view);
+    RenderFrame frame = write_images(s, view, layers);
+    frame.estimated_rel_mse = view.estimated_rel_mse;
+    if (r.frames.empty()) {
+      r.reference_metrics = compare_layers(s, layers);
+      r.exr_path = frame.exr_path;
+      r.png_path = frame.png_path;
+      r.layers = std::move(layers.images);
+    }
+    r.frames.push_back(frame);
+  }
+  if (!spec_.video_path.empty()) encode_video(s, r);
   r.stats = render_stats(s, r);
   if (!spec_.stats_path.empty()) write_json_file(spec_.stats_path, r.stats);
-  r.layers = std::move(layers.images);
   return r;
 }
 

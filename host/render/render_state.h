@@ -5,6 +5,7 @@
 #include "image/error_estimate.h"
 #include "passes/checkpoint.h"
 #include "passes/combined.h"
+#include "passes/each_view.h"
 #include "passes/path_tracer.h"
 #include "passes/ray_bundles.h"
 #include "passes/render_loop.h"
@@ -23,6 +24,18 @@
 
 namespace bp {
 
+// One view of the render: a plain render has one, a walkthrough one per frame (DESIGN.md §8). Its
+// accumulators are what checkpoints, its error estimate and its image files read.
+struct RenderView {
+  SceneCamera scene_camera;
+  CameraParams camera{};
+  Accumulator pt_accum, rb_accum;
+  RoundSums round_sums;
+  std::optional<BatchMeansErrorEstimate> error_estimate;
+  double estimated_rel_mse = NAN;
+  std::string out_prefix;  // --out, or PREFIX_0000, PREFIX_0001, ... for a walkthrough's frames
+};
+
 struct RenderState {
   explicit RenderState(const RenderSpec& s) : spec(s) {}
   const RenderSpec& spec;
@@ -34,21 +47,22 @@ struct RenderState {
   std::optional<RoundShape> shape;  // --mode combined's round
   std::uint32_t weight_mode = 0;
   float ratio_n2_over_n1 = 1.0f;
-  CameraParams camera{};
   bool light_sampling = false;
   float light_rate = 1.0f;
   std::string kernel_options;
   bool eye_direct_shared = false;
 
-  // The render's accumulators: what checkpoints, the error estimate and the image files read.
-  Accumulator pt_accum, rb_accum;
+  // The render's views (a deque: passes and round sums hold pointers into them). Checkpoints, several
+  // devices and --reference take one view (a walkthrough refuses them, render_scene.cpp).
+  std::deque<RenderView> views;
   // Several devices: each pass adds into an accumulator of its own, merged into the render's after
   // every batch (render/parallel_pass.h).
   std::deque<Accumulator> lane_accums;
   std::vector<Accumulator*> pt_pass_accums;  // what each PT pass adds into
   Accumulator* rb_pass_accum = nullptr;      // what the ray-bundle pass adds into
   PathTracerSettings pt_settings;
-  std::vector<std::unique_ptr<PathTracerPass>> pt;  // one per PT device (roles.pt), in that order
+  // One per PT device (roles.pt), in that order; a walkthrough (one device): one per view.
+  std::vector<std::unique_ptr<PathTracerPass>> pt;
   std::unique_ptr<RayBundlePass> rb;
   std::optional<BundleGeometry> geometry;
   RayBundleSettings rb_settings;
@@ -59,10 +73,9 @@ struct RenderState {
   double earlier_seconds = 0.0;
   std::string key;  // the checkpoint key
 
-  RoundSums round_sums;
-  std::optional<BatchMeansErrorEstimate> error_estimate;
-  double estimated_rel_mse = NAN;
+  double estimated_rel_mse = NAN;  // the worst view's
 
+  std::unique_ptr<ProgressivePass> each_view_pt;  // a walkthrough's path tracers, one per view
   std::unique_ptr<ProgressivePass> schedule;  // the combination or the devices' lanes, when there is one
   ParallelPass* lanes = nullptr;              // the schedule, on several devices
   ProgressivePass* pass = nullptr;            // what the render loop runs
@@ -72,6 +85,9 @@ struct RenderState {
   RenderDevice& pt_device(std::size_t k = 0) { return *devices[roles.pt[k]]; }
   RenderDevice& rb_device() { return *devices[roles.rb]; }
   bool several_devices() const { return devices.size() > 1; }
+  RenderView& first_view() { return views.front(); }
+  const RenderView& first_view() const { return views.front(); }
+  bool walkthrough() const { return spec.views.frames(); }
 };
 
 // printf into a std::string, for the observer's notes.
