@@ -119,7 +119,7 @@ static void build_pt_passes(RenderState& s) {
 // device, and the accumulators and error estimate on the host. Refused naming the size and the views.
 static void check_view_memory(const RenderState& s, std::size_t rb_device_bytes) {
   const RenderSpec& o = s.spec;
-  const std::size_t views = s.views.size(), pixels = std::size_t(s.scene.width) * s.scene.height;
+  const std::size_t views = s.scene.views.size(), pixels = std::size_t(s.scene.width) * s.scene.height;
   const DeviceInfo& device = s.devices.front()->context.info;
   const std::size_t device_bytes = rb_device_bytes + (s.use_pt ? views * pixels * sizeof(PixelAccum) : 0);
   // Host: per view the pt and rb sums (raw too with --layers all), the error estimate's two sums per
@@ -142,7 +142,6 @@ void build_passes(RenderState& s) {
   const Scene& scene = s.scene.scene;
   const DeviceScene& first_scene = s.devices.front()->scene;
   const int width = s.scene.width, height = s.scene.height;
-  build_views(s);
   s.light_sampling = light_sampling_applies(o) && first_scene.light_count > 0;
   s.light_rate = o.light_rate > 0.0f ? o.light_rate
                                      : default_light_rate(s.scene.patches.patch_count, std::size_t(width) * height);
@@ -189,10 +188,11 @@ void build_passes(RenderState& s) {
       throw UsageError(e.what());
     }
     // A walkthrough's views each have their eye hits and sums: checked with the views below.
-    rb_device_bytes = estimate_bundle_memory(size, rb.bins, std::size_t(width) * height * s.views.size(),
+    rb_device_bytes = estimate_bundle_memory(size, rb.bins, std::size_t(width) * height * s.scene.views.size(),
                                              bundle_chains(rb), scene.has_shading_normals(), scene.has_textures());
   }
-  if (s.views.size() > 1) check_view_memory(s, rb_device_bytes);
+  if (s.scene.views.size() > 1) check_view_memory(s, rb_device_bytes);
+  build_views(s);
   if (s.use_pt) build_pt_passes(s);
   if (s.use_rb) {
     s.geometry = build_bundle_geometry(scene, s.scene.patches);

@@ -14,13 +14,13 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
 // What a walkthrough (several frames) cannot do yet: one line each, exit 2.
-void check_walkthrough_options(const RenderSpec& o, std::size_t views) {
+void check_walkthrough_options(const RenderSpec& o) {
   if (!o.video_path.empty() && !o.views.frames())
     throw UsageError("--video encodes a walkthrough's frames: give --cameras all, --camera-path or --camera-animation");
   if (!o.video_path.empty() && !ffmpeg_on_path())
     throw UsageError("--video needs ffmpeg on PATH (Debian: apt-get install ffmpeg)");
   if (!o.views.frames()) return;
-  const std::string what = "a walkthrough (" + std::to_string(views) + " view(s))";
+  const std::string what = "a walkthrough (--cameras all, --camera-path, --camera-animation)";
   if (!o.checkpoint_path.empty() || !o.resume_path.empty())
     throw UsageError("--checkpoint and --resume are not implemented for " + what + ": render without them");
   if (!o.reference_path.empty() || !o.contact_sheet_path.empty())
@@ -33,6 +33,7 @@ void check_walkthrough_options(const RenderSpec& o, std::size_t views) {
 RenderScene prepare_scene(const RenderSpec& o, const std::function<void(const std::string&)>& note) {
   using clock = std::chrono::steady_clock;
   RenderScene s;
+  check_walkthrough_options(o);
   if (!o.reference_path.empty()) s.reference = read_exr(o.reference_path);
 
   auto t_load = clock::now();
@@ -52,7 +53,6 @@ RenderScene prepare_scene(const RenderSpec& o, const std::function<void(const st
   } catch (const std::invalid_argument& e) {
     throw UsageError(e.what());
   }
-  check_walkthrough_options(o, s.views.size());
 
   s.width = o.width;
   s.height = o.height;

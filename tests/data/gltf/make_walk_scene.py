@@ -5,7 +5,8 @@ walkthrough tests (python3 stdlib only; run from anywhere).
 Camera nodes, in scene order: 0 "camera" (the box's own view), 1 "left" (from the left, turned 20
 degrees), 2 "walker", a child of "rig" (translated by +0.1 in x) and animated by "walk": its
 translation LINEAR from (0.178, 0.273, -0.8) at t = 0 to (0.178, 0.273, -0.4) at t = 1, its rotation
-STEP from 180 degrees about y (looking down +z) to 160 degrees at t = 0.5.
+STEP from 180 degrees about y (looking down +z) to 160 degrees at t = 0.5; at rest (no animation)
+it stands at (0.178, 0.273, -0.6) in the rig, looking down +z.
 """
 import base64
 import json
@@ -29,7 +30,7 @@ def main():
     d["nodes"] += [
         {"name": "left", "camera": 0, "translation": [0.1, 0.3, -0.7], "rotation": about_y(200.0)},
         {"name": "rig", "translation": [0.1, 0.0, 0.0], "children": [7]},
-        {"name": "walker", "camera": 0, "translation": [0.178, 0.273, -0.8], "rotation": camera["rotation"]},
+        {"name": "walker", "camera": 0, "translation": [0.178, 0.273, -0.6], "rotation": camera["rotation"]},
     ]
     d["scenes"][0]["nodes"] += [5, 6]
     # Animation data in a buffer of its own: translation times, values; rotation times, values.
