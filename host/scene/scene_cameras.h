@@ -31,7 +31,7 @@ struct CameraTrack {
 // from the tracks where they have one, else its rest pose; its parent's world transform is fixed
 // (animated ancestors are not followed).
 struct CameraAnimation {
-  std::string name;  // "animation N 'name'"
+  std::string name;  // animation N "name", for messages
   glm::dmat4 parent_world{1.0};
   glm::dvec3 translation{0.0}, scale{1.0};
   glm::dquat rotation{1.0, 0.0, 0.0, 0.0};
