@@ -211,13 +211,10 @@ TEST(Walkthrough, WalkThatCannotFitIsRefusedNamingSizeAndViews) {
 // Ctrl-C writes every frame of the rounds done.
 TEST(Walkthrough, SigintWritesEveryFrame) {
   const std::string dir = fresh_dir("walk-sigint");
-  const std::string render = "'" + std::string(BP_BINARY) + "' render " + kWalk +
+  const std::string render = std::string("'") + BP_BINARY + "' render " + kWalk +
                              " --width 32 --height 32 --mode rb --iterations 100000000 --cameras all --out " + dir +
                              "/i --stats " + dir + "/s.json";
-  CliResult r = run_shell(render + " 2>" + dir + "/log & pid=$!; (sleep 120; kill -KILL $pid) >/dev/null 2>&1 & " +
-                          "watchdog=$!; for i in $(seq 600); do grep -q rendering " + dir +
-                          "/log && break; sleep 0.1; done; sleep 1; kill -INT $pid; wait $pid; echo \"exit=$?\"; " +
-                          "kill $watchdog 2>/dev/null; cat " + dir + "/log");
+  CliResult r = interrupt_once_started(render, dir);
   EXPECT_NE(r.output.find("exit=130"), std::string::npos) << r.output;
   const nlohmann::json stats = read_json(dir + "/s.json");
   EXPECT_TRUE(stats["interrupted"].get<bool>());
