@@ -150,8 +150,9 @@ options (defaults in brackets):
   --video FILE.mp4    also encode a walkthrough's PNGs with ffmpeg (must be on PATH)
                       A walkthrough writes PREFIX_0000.exr/.png, PREFIX_0001... from one
                       ray-bundle chain shared by all its views (each view its own eye gather
-                      and PT samples); --spp/--iterations/--time count the whole walk. One
-                      device; not with --checkpoint, --resume, --reference, --contact-sheet
+                      and PT samples); --spp/--iterations/--time count the whole walk;
+                      checkpoints hold every view. One device; not with --reference or
+                      --contact-sheet
   --exposure STOPS    exposure of the PNG                      [0]
   --max-depth N       safety cap on path length                [65536]
   -h, --help          this text

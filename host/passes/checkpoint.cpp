@@ -12,6 +12,9 @@ namespace {
 constexpr char kMagic[8] = {'B', 'P', 'C', 'K', 'P', 'T', '0', '2'};
 // Version 01 (before issue #16) is read too: it ends before the error estimate's statistics.
 constexpr char kMagicV1[8] = {'B', 'P', 'C', 'K', 'P', 'T', '0', '1'};
+// A walkthrough's further views follow the first's error estimate, after this tag (a plain render's
+// checkpoint ends before it, as it always did).
+constexpr char kViewsTag[8] = {'V', 'I', 'E', 'W', 'S', '0', '0', '1'};
 
 struct Writer {
   std::string bytes;
@@ -136,6 +139,15 @@ void write_checkpoint(const std::string& path, const Checkpoint& c) {
     w.value(std::uint8_t(c.rb_state->warmed_up));
   }
   write_error_estimate(w, c.error_estimate);
+  if (!c.further_views.empty()) {
+    w.bytes.append(kViewsTag, sizeof kViewsTag);
+    w.value(std::uint64_t(c.further_views.size()));
+    for (const Checkpoint::View& view : c.further_views) {
+      write_accumulator(w, view.pt);
+      write_accumulator(w, view.rb);
+      write_error_estimate(w, view.error_estimate);
+    }
+  }
   write_file_atomically(path, "checkpoint", [&](const std::string& tmp) {
     std::ofstream out(tmp, std::ios::binary);
     out.write(w.bytes.data(), std::streamsize(w.bytes.size()));
@@ -165,6 +177,17 @@ Checkpoint read_checkpoint(const std::string& path) {
     c.rb_state = s;
   }
   if (!v1) c.error_estimate = read_error_estimate(r);
+  if (!v1 && bytes.size() - r.at >= sizeof kViewsTag && std::memcmp(bytes.data() + r.at, kViewsTag, sizeof kViewsTag) == 0) {
+    r.at += sizeof kViewsTag;
+    const std::uint64_t views = r.value<std::uint64_t>();
+    for (std::uint64_t k = 0; k < views; ++k) {
+      Checkpoint::View view;
+      view.pt = read_accumulator(r);
+      view.rb = read_accumulator(r);
+      view.error_estimate = read_error_estimate(r);
+      c.further_views.push_back(std::move(view));
+    }
+  }
   if (r.at != bytes.size()) throw std::runtime_error(path + ": the checkpoint has trailing bytes");
   return c;
 }

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace bp {
 
@@ -20,6 +21,13 @@ struct Checkpoint {
   // The error estimate's batch statistics (DESIGN.md §9); absent in checkpoints of before issue #16,
   // whose resumed render starts its estimate afresh.
   std::optional<BatchMeansErrorEstimate::State> error_estimate;
+  // A walkthrough's views after the first (DESIGN.md §8; the first is pt, rb, error_estimate above):
+  // each one's accumulators and error estimate. The ray-bundle state is the views' one chain.
+  struct View {
+    std::optional<Accumulator> pt, rb;
+    std::optional<BatchMeansErrorEstimate::State> error_estimate;
+  };
+  std::vector<View> further_views;
 };
 
 // Binary, written atomically (temporary file, then rename). Throws std::runtime_error naming the file.

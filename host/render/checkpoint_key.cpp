@@ -28,6 +28,20 @@ std::string options_key(const RenderSpec& o, int width, int height, float patch_
   return key;
 }
 
+std::string views_key(const RenderSpec& o, const std::vector<SceneCamera>& views) {
+  if (!o.views.frames()) return "";
+  std::uint64_t hash = 1469598103934665603ull;  // FNV-1a over the cameras' floats
+  for (const SceneCamera& c : views) {
+    const float values[] = {c.position.x, c.position.y, c.position.z, c.forward.x, c.forward.y,
+                            c.forward.z,  c.up.x,       c.up.y,       c.up.z,      c.yfov};
+    const auto* bytes = reinterpret_cast<const unsigned char*>(values);
+    for (std::size_t i = 0; i < sizeof values; ++i) hash = (hash ^ bytes[i]) * 1099511628211ull;
+  }
+  char text[64];
+  std::snprintf(text, sizeof text, ";views=%zu:%016llx", views.size(), static_cast<unsigned long long>(hash));
+  return text;
+}
+
 std::optional<RoundShape> round_of_key(const std::string& key) {
   const std::string tag = ";round=";
   const std::size_t at = key.find(tag);

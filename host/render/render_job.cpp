@@ -29,14 +29,23 @@ void update_error_estimates(RenderState& s, std::optional<std::uint64_t> rounds_
 void resume(RenderState& s) {
   const RenderSpec& o = s.spec;
   s.key = options_key(o, s.scene.width, s.scene.height, s.scene.patch_size, s.rb ? s.rb_settings.bins : 0, s.shape,
-                      s.eye_direct_shared ? "shared" : "pt");
+                      s.eye_direct_shared ? "shared" : "pt") +
+          views_key(o, s.scene.views);
   if (!s.resumed) return;
   Checkpoint& c = *s.resumed;
   if (c.options != s.key)
     throw UsageError("--resume " + o.resume_path + " was saved with other options:\n  saved: " + c.options +
                      "\n  now:   " + s.key);
-  if (!s.pt.empty() && c.pt) s.first_view().pt_accum = *c.pt;
-  if (s.rb && c.rb) s.first_view().rb_accum = *c.rb;
+  // The key holds a walkthrough's views: the checkpoint has as many.
+  if (c.further_views.size() + 1 != s.views.size())
+    throw UsageError("--resume " + o.resume_path + " holds " + std::to_string(c.further_views.size() + 1) +
+                     " view(s), this render has " + std::to_string(s.views.size()));
+  for (std::size_t k = 0; k < s.views.size(); ++k) {
+    const std::optional<Accumulator>& pt = k ? c.further_views[k - 1].pt : c.pt;
+    const std::optional<Accumulator>& rb = k ? c.further_views[k - 1].rb : c.rb;
+    if (!s.pt.empty() && pt) s.views[k].pt_accum = *pt;
+    if (s.rb && rb) s.views[k].rb_accum = *rb;
+  }
   if (s.rb && c.rb_state) s.rb->load_state(*c.rb_state);
   s.first_round = c.rounds;
   s.earlier_seconds = c.render_seconds;
@@ -51,7 +60,10 @@ void start_error_estimate(RenderState& s) {
       !s.rb ? 1 : s.shape ? (rb_batch_iterations + s.shape->rb_iterations - 1) / s.shape->rb_iterations
                           : rb_batch_iterations;
   const int width = s.scene.width, height = s.scene.height;
-  for (RenderView& view : s.views) {
+  for (std::size_t k = 0; k < s.views.size(); ++k) {
+    RenderView& view = s.views[k];
+    const std::optional<BatchMeansErrorEstimate::State>* saved =
+        !s.resumed ? nullptr : k ? &s.resumed->further_views[k - 1].error_estimate : &s.resumed->error_estimate;
     // The image times the rounds: pt.sum / N1 + rb.sum / N2 per round (eq. 3; N1 = N2 = 1 alone).
     if (!s.pt.empty() && (!s.shape || s.shape->pt_samples > 0)) {
       view.round_sums.first = &view.pt_accum.sum;
@@ -61,8 +73,8 @@ void start_error_estimate(RenderState& s) {
       view.round_sums.second = &view.rb_accum.sum;
       view.round_sums.second_scale = s.shape ? 1.0 / s.shape->rb_iterations : 1.0;
     }
-    if (s.resumed && s.resumed->error_estimate)
-      view.error_estimate.emplace(BatchMeansErrorEstimate::from_state(*s.resumed->error_estimate, width, height));
+    if (saved && *saved)
+      view.error_estimate.emplace(BatchMeansErrorEstimate::from_state(**saved, width, height));
     else
       view.error_estimate.emplace(width, height, error_batch_rounds, o.error_levels, s.first_round,
                                   s.first_round ? &view.round_sums : nullptr);
@@ -75,12 +87,21 @@ void save_checkpoint(RenderState& s, std::uint64_t rounds, double seconds) {
   c.options = s.key;
   c.rounds = rounds;
   c.render_seconds = s.earlier_seconds + seconds;
-  if (!s.pt.empty()) c.pt = s.first_view().pt_accum;
-  if (s.rb) {
-    c.rb = s.first_view().rb_accum;
-    c.rb_state = s.rb->save_state();
+  for (std::size_t k = 0; k < s.views.size(); ++k) {
+    const RenderView& view = s.views[k];
+    Checkpoint::View saved;
+    if (!s.pt.empty()) saved.pt = view.pt_accum;
+    if (s.rb) saved.rb = view.rb_accum;
+    saved.error_estimate = view.error_estimate->state();
+    if (k) {
+      c.further_views.push_back(std::move(saved));
+    } else {
+      c.pt = std::move(saved.pt);
+      c.rb = std::move(saved.rb);
+      c.error_estimate = std::move(saved.error_estimate);
+    }
   }
-  c.error_estimate = s.first_view().error_estimate->state();
+  if (s.rb) c.rb_state = s.rb->save_state();
   write_checkpoint(s.spec.checkpoint_path, c);
 }
 

@@ -21,8 +21,6 @@ void check_walkthrough_options(const RenderSpec& o) {
     throw UsageError("--video needs ffmpeg on PATH (Debian: apt-get install ffmpeg)");
   if (!o.views.frames()) return;
   const std::string what = "a walkthrough (--cameras all, --camera-path, --camera-animation)";
-  if (!o.checkpoint_path.empty() || !o.resume_path.empty())
-    throw UsageError("--checkpoint and --resume are not implemented for " + what + ": render without them");
   if (!o.reference_path.empty() || !o.contact_sheet_path.empty())
     throw UsageError(std::string(!o.reference_path.empty() ? "--reference" : "--contact-sheet") +
                      " compares one image: not with " + what);

@@ -168,7 +168,6 @@ TEST(Walkthrough, BadViewInputsExitWithOneLine) {
       {"--camera-path " + dir + "/same.json", 3, "target at its position"},
       {"--camera-path " + dir + "/fov.json", 3, "yfov"},
       {"--camera-path " + dir + "/missing.json", 3, "cannot open"},
-      {"--cameras all --checkpoint " + dir + "/c.ckpt", 2, "--checkpoint and --resume are not implemented"},
       {"--cameras all --reference " + dir + "/r.exr", 2, "--reference"},
       {"--video " + dir + "/v.mp4", 2, "--video encodes a walkthrough"},
   };
@@ -185,6 +184,33 @@ TEST(Walkthrough, BadViewInputsExitWithOneLine) {
                         "--spp 1 --out " + dir + "/y --cameras all");
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("no perspective camera node"), std::string::npos) << r.output;
+}
+
+// A walk stopped at a checkpoint and resumed gives every frame of the walk that ran through, bit for
+// bit (the one chain's state and each view's accumulators and error estimate are saved); a checkpoint
+// of other views is refused.
+TEST(Walkthrough, CheckpointedWalkResumesToTheUninterruptedFrames) {
+  const std::string dir = fresh_dir("walk-checkpoint");
+  const std::string common = "render " + kWalk + " --width 24 --height 24 --warmup 4 --mode combined --ratio 1/2 "
+                             "--cameras all --iterations ";
+  ASSERT_EQ(run_cli(common + "16 --out " + dir + "/whole").exit_code, 0);
+  ASSERT_EQ(run_cli(common + "8 --checkpoint " + dir + "/ck --out " + dir + "/first").exit_code, 0);
+  CliResult r = run_cli(common + "16 --resume " + dir + "/ck --stats " + dir + "/s.json --out " + dir + "/rest");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(read_json(dir + "/s.json")["resumed_from_rounds"], 4);
+  for (int k = 0; k < 3; ++k)
+    for (const std::string layer : {"", "pt", "rb", "stderr"}) {
+      const ImageRGB rest = read_exr(frame(dir + "/rest", k), layer), whole = read_exr(frame(dir + "/whole", k), layer);
+      EXPECT_EQ(rest.rgb, whole.rgb) << "frame " << k << " layer '" << layer << "'";
+    }
+  EXPECT_GT(max_relative_difference(read_exr(frame(dir + "/rest", 0)), read_exr(frame(dir + "/first", 0))), 0.0)
+      << "the resumed walk went on from the checkpoint";
+  // The same checkpoint under other views: refused with both keys.
+  std::ofstream(dir + "/path.json") << R"([{"position": [0.278, 0.273, -0.8], "target": [0.278, 0.273, 0]}])";
+  r = run_cli("render " + kWalk + " --width 24 --height 24 --warmup 4 --mode combined --ratio 1/2 --iterations 16 "
+              "--camera-path " + dir + "/path.json --resume " + dir + "/ck --out " + dir + "/other");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("saved with other options"), std::string::npos) << r.output;
 }
 
 // --video needs ffmpeg: without it on PATH, one line naming the package, before anything is rendered.
