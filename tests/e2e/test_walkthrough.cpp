@@ -224,6 +224,22 @@ TEST(Walkthrough, VideoWithoutFfmpegIsRefused) {
   EXPECT_FALSE(fs::exists(dir + "/v_0000.exr"));
 }
 
+// --video: ffmpeg encodes every frame's PNG at --fps (9 frames: the walker's second at 8 fps).
+TEST(Walkthrough, VideoEncodesEveryFrame) {
+  if (run_shell("command -v ffmpeg && command -v ffprobe").exit_code != 0)
+    GTEST_SKIP() << "ffmpeg is not installed (scripts/test.sh installs it)";
+  const std::string dir = fresh_dir("walk-video-encoded");
+  CliResult r = run_cli("render " + kWalk + " --width 24 --height 24 --mode rb --iterations 4 --warmup 2 --camera 2 "
+                        "--camera-animation --fps 8 --out " + dir + "/a --video " + dir + "/a.mp4 --stats " + dir +
+                        "/a.json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(read_json(dir + "/a.json")["video"], dir + "/a.mp4");
+  CliResult probe = run_shell("ffprobe -v error -count_frames -select_streams v:0 -show_entries "
+                              "stream=nb_read_frames,r_frame_rate,width -of csv=p=0 " + dir + "/a.mp4");
+  ASSERT_EQ(probe.exit_code, 0) << probe.output;
+  EXPECT_EQ(probe.output, "24,8/1,9\n");
+}
+
 // Memory grows with the views: a walk that cannot fit is refused naming the size and the views.
 TEST(Walkthrough, WalkThatCannotFitIsRefusedNamingSizeAndViews) {
   const std::string dir = fresh_dir("walk-memory");
