@@ -65,7 +65,7 @@ void add_ray_bundle_stats(const RenderState& s, const RenderResult& r, nlohmann:
   const RenderOutcome& outcome = s.outcome;
   const Scene& scene = s.scene.scene;
   const double iterations = double(r.rb_iterations) + o.warmup;
-  const std::size_t pixels = std::size_t(s.scene.width) * s.scene.height;
+  const std::size_t pixels = std::size_t(s.scene.width) * s.scene.height * s.views.size();  // every view's eye hits
   stats["iterations"] = r.rb_iterations;
   stats["warmup_iterations"] = o.warmup;
   stats["bins"] = s.rb->bins();
