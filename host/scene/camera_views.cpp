@@ -1,6 +1,7 @@
 #include "scene/camera_views.h"
 
 #include "scene/camera_path.h"
+#include "scene/gltf_loader.h"
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -133,6 +134,7 @@ std::vector<SceneCamera> select_views(const Scene& scene, const ViewRequest& r) 
                                 scene.source + " has no perspective camera node");
   const SceneCameraNode& node = find_camera_node(scene, r.camera.empty() ? "0" : r.camera);
   if (!r.animation) return {node.view};
+  if (!node.animation_error.empty()) throw SceneError(node.animation_error);
   if (!node.animation)
     throw std::invalid_argument("--camera-animation: camera node " + std::to_string(node.node) +
                                 quoted_name(node.name) + " is not animated (no translation or rotation channel)");

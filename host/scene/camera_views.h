@@ -23,7 +23,7 @@ struct ViewRequest {
 
 // The views the request names. Throws std::invalid_argument (a bad option: unknown camera, a node
 // without a camera, a camera without an animation, fps <= 0) and SceneError (a camera path file
-// that cannot be used), each one line.
+// or an animation that cannot be used), each one line.
 std::vector<SceneCamera> select_views(const Scene& scene, const ViewRequest& request);
 
 // The camera a node with this world transform holds (looking down its -z, up its +y); nullopt when

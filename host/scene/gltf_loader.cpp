@@ -975,7 +975,13 @@ class Loader {
     if (!(aspect >= 0.0 && std::isfinite(float(aspect)))) fail(obj + " has aspectRatio " + std::to_string(aspect));
     const std::optional<SceneCamera> view = camera_from_world(world, yfov, aspect);
     if (!view) fail("node " + std::to_string(n) + " gives " + obj + " a degenerate orientation");
-    SceneCameraNode node{n, model_.nodes[n].name, cam.name, *view, camera_animation(n, parent)};
+    SceneCameraNode node{n, model_.nodes[n].name, cam.name, *view, std::nullopt, ""};
+    // An animation that cannot be played fails only the render that asks for it (--camera-animation).
+    try {
+      node.animation = camera_animation(n, parent);
+    } catch (const SceneError& e) {
+      node.animation_error = e.what();
+    }
     scene_.camera_nodes.push_back(node);
     if (scene_.camera_nodes.size() == 1) scene_.camera = *view;
   }

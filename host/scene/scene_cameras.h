@@ -48,6 +48,7 @@ struct SceneCameraNode {
   std::string camera_name;  // the glTF camera's name ("" if none)
   SceneCamera view;         // at the node's rest pose
   std::optional<CameraAnimation> animation;  // the first glTF animation with channels on this node
+  std::string animation_error;  // why that animation cannot be played (CUBICSPLINE, bad keyframes), if so
 };
 
 }  // namespace bp

@@ -213,6 +213,23 @@ TEST(Walkthrough, CheckpointedWalkResumesToTheUninterruptedFrames) {
   EXPECT_NE(r.output.find("saved with other options"), std::string::npos) << r.output;
 }
 
+// A CUBICSPLINE camera animation fails only the render that plays it; the scene renders otherwise.
+TEST(Walkthrough, UnplayableAnimationFailsOnlyTheRenderThatPlaysIt) {
+  const std::string dir = fresh_dir("walk-cubic");
+  std::ifstream in(kWalk);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::size_t step = text.find("\"STEP\"");
+  ASSERT_NE(step, std::string::npos);
+  text.replace(step, 6, "\"CUBICSPLINE\"");
+  std::ofstream(dir + "/cubic.gltf") << text;
+  const std::string common = "render " + dir + "/cubic.gltf --width 8 --mode pt --spp 1 --camera 2 --out " + dir;
+  EXPECT_EQ(run_cli(common + "/still").exit_code, 0);
+  CliResult r = run_cli(common + "/played --camera-animation");
+  EXPECT_EQ(r.exit_code, 3) << r.output;
+  EXPECT_NE(r.output.find("interpolation CUBICSPLINE"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir + "/played_0000.exr"));
+}
+
 // --video needs ffmpeg: without it on PATH, one line naming the package, before anything is rendered.
 TEST(Walkthrough, VideoWithoutFfmpegIsRefused) {
   const std::string dir = fresh_dir("walk-video");

@@ -92,27 +92,28 @@ TEST(CameraViews, SampleTimesCoverTheAnimationAtTheFrameRate) {
   EXPECT_EQ(animation_sample_times(*node.animation, 2.5).size(), 3u);  // 1, 1.4, 1.8
 }
 
+ViewRequest camera_request(const char* camera, bool animation = false, double fps = 24.0) {
+  ViewRequest request;
+  request.camera = camera;
+  request.animation = animation;
+  request.fps = fps;
+  return request;
+}
+
 TEST(CameraViews, SelectionBySourceAndItsErrors) {
   const Scene s = load_gltf(test_file("good/cornell-walk.gltf"));
-  ViewRequest request;
-  EXPECT_EQ(select_views(s, request).size(), 1u);
-  request.all_cameras = true;
-  EXPECT_EQ(select_views(s, request).size(), 3u);
-  request = ViewRequest{};
-  request.camera = "left";
-  expect_vec3_near(select_views(s, request).front().position, s.camera_nodes[1].view.position);
-  request.camera = "Cornell camera (35 mm lens, 25 mm film)";  // the glTF camera's name: its first node
-  expect_vec3_near(select_views(s, request).front().position, s.camera_nodes[0].view.position);
-  request.camera = "3";
-  EXPECT_THROW(select_views(s, request), std::invalid_argument);
-  request.camera = "white";  // a mesh node
-  EXPECT_THROW(select_views(s, request), std::invalid_argument);
-  request.camera = "2";
-  request.animation = true;
-  request.fps = 0.0;
-  EXPECT_THROW(select_views(s, request), std::invalid_argument);
-  request.fps = 10.0;
-  EXPECT_EQ(select_views(s, request).size(), 11u);
+  EXPECT_EQ(select_views(s, ViewRequest{}).size(), 1u);
+  ViewRequest all;
+  all.all_cameras = true;
+  EXPECT_EQ(select_views(s, all).size(), 3u);
+  expect_vec3_near(select_views(s, camera_request("left")).front().position, s.camera_nodes[1].view.position);
+  // The glTF camera's name: its first node.
+  expect_vec3_near(select_views(s, camera_request("Cornell camera (35 mm lens, 25 mm film)")).front().position,
+                   s.camera_nodes[0].view.position);
+  EXPECT_THROW(select_views(s, camera_request("3")), std::invalid_argument);
+  EXPECT_THROW(select_views(s, camera_request("white")), std::invalid_argument);  // a mesh node
+  EXPECT_THROW(select_views(s, camera_request("2", true, 0.0)), std::invalid_argument);
+  EXPECT_EQ(select_views(s, camera_request("2", true, 10.0)).size(), 11u);
 }
 
 }  // namespace
