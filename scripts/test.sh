@@ -5,8 +5,9 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 fuzz_seconds="${BUNDLEPATH_FUZZ_SECONDS:-60}"
-# gnuplot-nox: the bench smoke test (bench_quick_smoke) then draws its plots too.
-if [ "$fuzz_seconds" -gt 0 ]; then bash scripts/setup.sh --fuzz gnuplot-nox; else bash scripts/setup.sh gnuplot-nox; fi
+# gnuplot-nox: the bench smoke test (bench_quick_smoke) then draws its plots too; ffmpeg: the
+# walkthrough's --video test (Walkthrough.VideoEncodesEveryFrame) then runs rather than skips.
+if [ "$fuzz_seconds" -gt 0 ]; then bash scripts/setup.sh --fuzz gnuplot-nox ffmpeg; else bash scripts/setup.sh gnuplot-nox ffmpeg; fi
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release
 cmake --build build -j "$(nproc)"
 status=0

@@ -145,6 +145,21 @@ options (defaults in brackets):
   --resume FILE       continue the render saved in FILE (same scene and options). --spp and
                       --iterations are totals, so the result equals an uninterrupted render;
                       --time counts this run only
+  --camera C          the camera node to render from: its index among the scene's camera nodes
+                      (depth-first, from 0) or its node's (else camera's) name   [0]
+  --cameras all       a walkthrough of every camera node at its rest pose, in scene order
+  --camera-path FILE  a walkthrough along FILE.json: [{"position": [x,y,z], "target": [x,y,z],
+                      "up": [x,y,z] (default [0,1,0]), "yfov": radians (default the scene's)}, ...]
+  --camera-animation  a walkthrough of --camera's glTF animation (translation and rotation
+                      channels, LINEAR or STEP), sampled at --fps from its first keyframe to
+                      its last; --cameras all renders animated cameras at their rest pose
+  --fps F             frames per second of --camera-animation and --video    [24]
+  --video FILE.mp4    also encode a walkthrough's PNGs with ffmpeg (must be on PATH)
+                      A walkthrough writes PREFIX_0000.exr/.png, PREFIX_0001... from one
+                      ray-bundle chain shared by all its views (each view its own eye gather
+                      and PT samples); --spp/--iterations/--time count the whole walk;
+                      checkpoints hold every view. One device; not with --reference or
+                      --contact-sheet
   --exposure STOPS    exposure of the PNG                      [0]
   --max-depth N       safety cap on path length                [65536]
   -h, --help          this text
@@ -278,6 +293,23 @@ RenderOptions parse_render_options(const std::vector<std::string>& args) {
          o.patch_size = parse_number<float>(k, v, 1e-9f, 1e9f, "a length in metres > 0");
        }},
       {"--stats", [&](auto&, auto& v) { o.stats_path = v; }},
+      {"--camera", [&](auto& k, auto& v) {
+         if (v.empty()) throw UsageError(k + ": expected a camera node's index or name");
+         o.views.camera = v;
+       }},
+      {"--cameras", [&](auto& k, auto& v) {
+         if (v != "all") throw UsageError(k + ": the only value is 'all'");
+         o.views.all_cameras = true;
+       }},
+      {"--camera-path", [&](auto& k, auto& v) {
+         if (v.empty()) throw UsageError(k + ": expected a file name");
+         o.views.path_file = v;
+       }},
+      {"--fps", [&](auto& k, auto& v) { o.views.fps = parse_number<double>(k, v, 1e-3, 1e4, "frames per second > 0"); }},
+      {"--video", [&](auto& k, auto& v) {
+         if (v.empty()) throw UsageError(k + ": expected a file name");
+         o.video_path = v;
+       }},
       {"--exposure", [&](auto& k, auto& v) { o.exposure = parse_number<float>(k, v, -64.0f, 64.0f, "stops in -64..64"); }},
       {"--max-depth", [&](auto& k, auto& v) {
          o.max_depth = parse_number<std::uint32_t>(k, v, 1, 1u << 24, "an integer in 1..16777216");
@@ -285,8 +317,10 @@ RenderOptions parse_render_options(const std::vector<std::string>& args) {
   };
   for (std::size_t i = 0; i < args.size(); ++i) {
     std::string arg = args[i];
-    if (arg == "--no-light-sampling") {  // the one flag without a value
+    if (arg == "--no-light-sampling") {  // the flags without a value
       o.light_sampling = false;
+    } else if (arg == "--camera-animation") {
+      o.views.animation = true;
     } else if (arg.rfind("--", 0) == 0) {
       std::string value;
       bool has_value = false;

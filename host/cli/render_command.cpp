@@ -20,14 +20,12 @@ class CliObserver : public RenderObserver {
   void note(const std::string& line) override {
     if (speaks_) std::fprintf(stderr, "bundlepath: %s\n", line.c_str());
   }
-  void started() override {
-    install_interrupt_handlers(speaks_);
-    if (speaks_) bar_.emplace(mode_);
-  }
+  void started() override { install_interrupt_handlers(speaks_); }
   void progress(const RenderProgressReport& p) override {
-    if (bar_)
-      bar_->update(p.fraction, p.rate, p.mrays_per_second, p.elapsed_seconds, p.rate_unit, p.estimated_rel_mse,
-                   p.eta_seconds);
+    if (!speaks_) return;
+    if (!bar_) bar_.emplace(p.frames > 1 ? mode_ + " " + std::to_string(p.frames) + " frames" : mode_);
+    bar_->update(p.fraction, p.rate, p.mrays_per_second, p.elapsed_seconds, p.rate_unit, p.estimated_rel_mse,
+                 p.eta_seconds);
   }
   void finished() override {
     if (bar_) bar_->finish();
@@ -52,9 +50,13 @@ void print_summary(const RenderOptions& o, const RenderResult& r) {
                r.outcome.interrupted ? "interrupted after " : !r.device_failure.empty() ? "stopped after " : "",
                done.c_str(), r.width, r.height, r.outcome.seconds, r.mrays_per_second, r.exr_path.c_str(),
                r.png_path.c_str());
+  if (r.frames.size() > 1)
+    std::fprintf(stderr, "bundlepath: %zu frames: %s ... %s%s%s\n", r.frames.size(), r.frames.front().exr_path.c_str(),
+                 r.frames.back().exr_path.c_str(), r.video_path.empty() ? "" : ", video ", r.video_path.c_str());
   if (std::isfinite(r.estimated_rel_mse))
-    std::fprintf(stderr, "bundlepath: estimated relMSE %.3g (noise only: from %llu batches of at least %llu rounds)%s\n",
-                 r.estimated_rel_mse, static_cast<unsigned long long>(r.error_batches),
+    std::fprintf(stderr, "bundlepath: estimated relMSE %.3g%s (noise only: from %llu batches of at least %llu rounds)%s\n",
+                 r.estimated_rel_mse, r.frames.size() > 1 ? " (worst frame)" : "",
+                 static_cast<unsigned long long>(r.error_batches),
                  static_cast<unsigned long long>(r.error_batch_rounds),
                  o.target_error > 0.0 ? (r.outcome.target_reached ? ": --target-error reached"
                                                                   : ": --target-error not reached")

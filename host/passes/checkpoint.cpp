@@ -14,6 +14,9 @@ constexpr char kMagic[8] = {'B', 'P', 'C', 'K', 'P', 'T', '0', '3'};
 // --rb-level: it ends before the RB level's) are read too.
 constexpr char kMagicV1[8] = {'B', 'P', 'C', 'K', 'P', 'T', '0', '1'};
 constexpr char kMagicV2[8] = {'B', 'P', 'C', 'K', 'P', 'T', '0', '2'};
+// A walkthrough's further views follow the first's RB level, after this tag (a plain render's
+// checkpoint ends before it).
+constexpr char kViewsTag[8] = {'V', 'I', 'E', 'W', 'S', '0', '0', '1'};
 
 struct Writer {
   std::string bytes;
@@ -121,6 +124,18 @@ std::optional<BatchMeansErrorEstimate::State> read_batch_means(Reader& r) {
   return e;
 }
 
+void write_rb_level(Writer& w, const std::optional<RbLevel::State>& level) {
+  write_batch_means(w, level ? &level->pt : nullptr);
+  write_batch_means(w, level ? &level->rb : nullptr);
+}
+
+std::optional<RbLevel::State> read_rb_level(Reader& r) {
+  std::optional<BatchMeansErrorEstimate::State> pt = read_batch_means(r), rb = read_batch_means(r);
+  if (pt.has_value() != rb.has_value()) throw std::runtime_error(r.path + ": the checkpoint's RB level is inconsistent");
+  if (!pt) return std::nullopt;
+  return RbLevel::State{std::move(*pt), std::move(*rb)};
+}
+
 }  // namespace
 
 void write_checkpoint(const std::string& path, const Checkpoint& c) {
@@ -138,8 +153,17 @@ void write_checkpoint(const std::string& path, const Checkpoint& c) {
     w.value(std::uint8_t(c.rb_state->warmed_up));
   }
   write_batch_means(w, c.error_estimate ? &*c.error_estimate : nullptr);
-  write_batch_means(w, c.rb_level ? &c.rb_level->pt : nullptr);
-  write_batch_means(w, c.rb_level ? &c.rb_level->rb : nullptr);
+  write_rb_level(w, c.rb_level);
+  if (!c.further_views.empty()) {
+    w.bytes.append(kViewsTag, sizeof kViewsTag);
+    w.value(std::uint64_t(c.further_views.size()));
+    for (const Checkpoint::View& view : c.further_views) {
+      write_accumulator(w, view.pt);
+      write_accumulator(w, view.rb);
+      write_batch_means(w, view.error_estimate ? &*view.error_estimate : nullptr);
+      write_rb_level(w, view.rb_level);
+    }
+  }
   write_file_atomically(path, "checkpoint", [&](const std::string& tmp) {
     std::ofstream out(tmp, std::ios::binary);
     out.write(w.bytes.data(), std::streamsize(w.bytes.size()));
@@ -172,10 +196,19 @@ Checkpoint read_checkpoint(const std::string& path) {
     c.rb_state = s;
   }
   if (!v1) c.error_estimate = read_batch_means(r);
-  if (!v1 && !v2) {
-    std::optional<BatchMeansErrorEstimate::State> pt = read_batch_means(r), rb = read_batch_means(r);
-    if (pt.has_value() != rb.has_value()) throw std::runtime_error(path + ": the checkpoint's RB level is inconsistent");
-    if (pt) c.rb_level = RbLevel::State{std::move(*pt), std::move(*rb)};
+  if (!v1 && !v2) c.rb_level = read_rb_level(r);
+  if (!v1 && !v2 && bytes.size() - r.at >= sizeof kViewsTag &&
+      std::memcmp(bytes.data() + r.at, kViewsTag, sizeof kViewsTag) == 0) {
+    r.at += sizeof kViewsTag;
+    const std::uint64_t views = r.value<std::uint64_t>();
+    for (std::uint64_t k = 0; k < views; ++k) {
+      Checkpoint::View view;
+      view.pt = read_accumulator(r);
+      view.rb = read_accumulator(r);
+      view.error_estimate = read_batch_means(r);
+      view.rb_level = read_rb_level(r);
+      c.further_views.push_back(std::move(view));
+    }
   }
   if (r.at != bytes.size()) throw std::runtime_error(path + ": the checkpoint has trailing bytes");
   return c;

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace bp {
 
@@ -23,6 +24,14 @@ struct Checkpoint {
   std::optional<BatchMeansErrorEstimate::State> error_estimate;
   // The RB level's batch statistics (--rb-level corrected, image/rb_level.h); absent before format 03.
   std::optional<RbLevel::State> rb_level;
+  // A walkthrough's views after the first (DESIGN.md §8; the first is pt, rb, error_estimate above):
+  // each one's accumulators and error estimate. The ray-bundle state is the views' one chain.
+  struct View {
+    std::optional<Accumulator> pt, rb;
+    std::optional<BatchMeansErrorEstimate::State> error_estimate;
+    std::optional<RbLevel::State> rb_level;
+  };
+  std::vector<View> further_views;
 };
 
 // Binary, written atomically (temporary file, then rename). Throws std::runtime_error naming the file.

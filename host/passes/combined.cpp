@@ -86,10 +86,11 @@ ProbeImageSize probe_image_size(int width, int height) {
   return ProbeImageSize{std::max(1, int(std::lround(width * scale))), std::max(1, int(std::lround(height * scale)))};
 }
 
-RatioProbe probe_ratio(PathTracerPass& probe_pt, std::size_t pixels, RayBundlePass& rb, Accumulator& rb_accum,
-                       const RatioProbeBudget& budget) {
+RatioProbe probe_ratio(PathTracerPass& probe_pt, std::size_t pixels, RayBundlePass& rb,
+                       const std::vector<Accumulator*>& rb_accums, const RatioProbeBudget& budget) {
   const auto start = std::chrono::steady_clock::now();
-  const Accumulator rb_before = rb_accum;
+  std::vector<Accumulator> rb_before;
+  for (const Accumulator* a : rb_accums) rb_before.push_back(*a);
   const RayBundlePass::State rb_before_state = rb.save_state();
   // The probe times RB iterations with their eye estimate, not the warm-up: marked as warmed up.
   rb.load_state(RayBundlePass::State{rb_before_state.e_in, 0, true});
@@ -117,7 +118,7 @@ RatioProbe probe_ratio(PathTracerPass& probe_pt, std::size_t pixels, RayBundlePa
   const double probe_seconds = std::min(kAutoRatioProbeCapSeconds, kAutoRatioProbeShare * render_seconds);
   time_until(probe_seconds / 2, probe_pt.max_batch(), 0, pt_step, &pt_seconds, &pt_count);
   time_until(probe_seconds / 2, rb.max_batch(), 1, rb_step, &rb_seconds, &rb_count);
-  rb_accum = rb_before;
+  for (std::size_t k = 0; k < rb_accums.size(); ++k) *rb_accums[k] = rb_before[k];
   rb.load_state(rb_before_state);
 
   RatioProbe probe;
@@ -133,24 +134,16 @@ RatioProbe probe_ratio(PathTracerPass& probe_pt, std::size_t pixels, RayBundlePa
   return probe;
 }
 
-namespace {
-void add(BatchCounts& total, const BatchCounts& c) {
-  total.rays += c.rays;
-  total.fragments += c.fragments;
-  total.nonfinite_samples += c.nonfinite_samples;
-}
-}  // namespace
-
 BatchCounts CombinedPass::run(std::uint64_t first, std::uint32_t count) {
   BatchCounts total;
   const std::uint64_t pt_max = std::max<std::uint32_t>(1, pt_.max_batch());
   const std::uint64_t pt_end = (first + count) * shape_.pt_samples;
   for (std::uint64_t s = first * shape_.pt_samples; s < pt_end;) {
     const std::uint64_t next = std::min(pt_end, (s / pt_max + 1) * pt_max);
-    add(total, pt_.run(s, std::uint32_t(next - s)));
+    total += pt_.run(s, std::uint32_t(next - s));
     s = next;
   }
-  add(total, rb_.run(first * shape_.rb_iterations, count * shape_.rb_iterations));
+  total += rb_.run(first * shape_.rb_iterations, count * shape_.rb_iterations);
   return total;
 }
 

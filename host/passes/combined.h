@@ -104,12 +104,14 @@ struct RatioProbeBudget {
 // auto_ratio_shape. `pixels` is the render's. Nothing stays in the render's passes: the ray-bundle
 // accumulator and state (warm-up not done) are put back as they were, so the render that follows is
 // the one a fixed --ratio of the chosen c gives, bit for bit. The weights are the caller's to set.
-RatioProbe probe_ratio(PathTracerPass& probe_pt, std::size_t pixels, RayBundlePass& rb, Accumulator& rb_accum,
-                       const RatioProbeBudget& budget);
+// rb_accums: every accumulator rb adds into (one per view).
+RatioProbe probe_ratio(PathTracerPass& probe_pt, std::size_t pixels, RayBundlePass& rb,
+                       const std::vector<Accumulator*>& rb_accums, const RatioProbeBudget& budget);
 
 class CombinedPass : public ProgressivePass {
  public:
-  CombinedPass(PathTracerPass& pt, RayBundlePass& rb, RoundShape shape) : pt_(pt), rb_(rb), shape_(shape) {}
+  // pt: the path tracer, or a walkthrough's path tracers (each_view.h).
+  CombinedPass(ProgressivePass& pt, RayBundlePass& rb, RoundShape shape) : pt_(pt), rb_(rb), shape_(shape) {}
   // Rounds [first, first + count). The PT samples go to the path tracer in launches of at most its
   // max_batch() that end on multiples of it (at --ratio 1e4 one round alone has 10^4 samples per
   // pixel, which one launch would sum in float); RB flushes its float sums every max_batch() itself.
@@ -121,7 +123,7 @@ class CombinedPass : public ProgressivePass {
   RoundShape shape() const { return shape_; }
 
  private:
-  PathTracerPass& pt_;
+  ProgressivePass& pt_;
   RayBundlePass& rb_;
   RoundShape shape_;
 };

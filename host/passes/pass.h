@@ -15,6 +15,12 @@ struct BatchCounts {
   std::uint64_t rays = 0;               // rays traced (camera, bounce and primary-hit rays)
   std::uint64_t fragments = 0;          // transillumination-buffer fragments (ray bundles)
   std::uint64_t nonfinite_samples = 0;  // samples dropped because they were NaN or Inf
+  BatchCounts& operator+=(const BatchCounts& c) {
+    rays += c.rays;
+    fragments += c.fragments;
+    nonfinite_samples += c.nonfinite_samples;
+    return *this;
+  }
 };
 
 // A batch that did not complete (a device failed during it): nothing of it was added, and the

@@ -104,17 +104,19 @@ void check_bundle_memory(const DeviceInfo& device, const BundleSize& size, std::
 
 RayBundlePass::RayBundlePass(const DeviceContext& device, const DeviceScene& scene, const BundleGeometry& geometry,
                              const CameraParams& camera, const RayBundleSettings& settings, Accumulator& accum)
+    : RayBundlePass(device, scene, geometry, {RayBundleView{camera, &accum}}, settings) {}
+
+RayBundlePass::RayBundlePass(const DeviceContext& device, const DeviceScene& scene, const BundleGeometry& geometry,
+                             const std::vector<RayBundleView>& views, const RayBundleSettings& settings)
     : device_(device),
       scene_(scene),
-      accum_(accum),
       settings_(settings),
       chains_(bundle_chains(settings)),
       eye_outputs_(settings.keep_raw ? 2u : 1u),
-      camera_(camera),
       bins_(settings.bins ? settings.bins : default_bins(bundle_size(geometry))),
       element_count_(geometry.elements.size()),
       patch_count_(geometry.patch_element.size()),
-      pixel_count_(std::size_t(camera.width) * camera.height),
+      pixel_count_(std::size_t(views.front().camera.width) * views.front().camera.height),
       tile_count_(std::size_t(bundle_tiles_per_side(bins_ + 1)) * bundle_tiles_per_side(bins_ + 1)),
       centre_(geometry.centre),
       radius_(geometry.radius),
@@ -169,15 +171,24 @@ RayBundlePass::RayBundlePass(const DeviceContext& device, const DeviceScene& sce
   fragment_total_ = make_buffer(device, "fragment total", CL_MEM_READ_WRITE, sizeof(cl_ulong));
   device.queue.enqueueFillBuffer(tile_counts_, cl_uint(0), 0, tile_count_ * sizeof(cl_uint));
   device.queue.enqueueFillBuffer(fragment_total_, cl_ulong(0), 0, sizeof(cl_ulong));
-  eye_hits_buffer_ = make_buffer(device, "eye hits", CL_MEM_READ_WRITE, pixel_count_ * sizeof(EyeHit));
-  eye_normals_ = make_buffer(device, "eye hit shading normals", CL_MEM_READ_WRITE,
-                             (scene.has_shading_normals ? pixel_count_ : 1) * sizeof(cl_float4));
-  eye_texels_ = make_buffer(device, "eye hit texels", CL_MEM_READ_WRITE,
-                            (scene.uv_slots > 0 ? 3 * pixel_count_ : 1) * sizeof(cl_float4));
-  pixel_sum_ =
-      make_buffer(device, "eye estimate sums", CL_MEM_READ_WRITE, pixel_count_ * eye_outputs_ * sizeof(cl_float4));
+  for (const RayBundleView& v : views) {
+    if (std::size_t(v.camera.width) * v.camera.height != pixel_count_)
+      throw std::invalid_argument("the ray-bundle pass's views must have one image size");
+    EyeView view;
+    view.camera = v.camera;
+    view.accum = v.accum;
+    view.hits = make_buffer(device, "eye hits", CL_MEM_READ_WRITE, pixel_count_ * sizeof(EyeHit));
+    view.normals = make_buffer(device, "eye hit shading normals", CL_MEM_READ_WRITE,
+                               (scene.has_shading_normals ? pixel_count_ : 1) * sizeof(cl_float4));
+    view.texels = make_buffer(device, "eye hit texels", CL_MEM_READ_WRITE,
+                              (scene.uv_slots > 0 ? 3 * pixel_count_ : 1) * sizeof(cl_float4));
+    view.pixel_sum =
+        make_buffer(device, "eye estimate sums", CL_MEM_READ_WRITE, pixel_count_ * eye_outputs_ * sizeof(cl_float4));
+    device.queue.enqueueFillBuffer(view.pixel_sum, cl_float4{{0, 0, 0, 0}}, 0,
+                                   pixel_count_ * eye_outputs_ * sizeof(cl_float4));
+    views_.push_back(view);
+  }
   device.queue.enqueueFillBuffer(e_in_, cl_float4{{0, 0, 0, 0}}, 0, patch_count_ * chains_ * sizeof(cl_float4));
-  device.queue.enqueueFillBuffer(pixel_sum_, cl_float4{{0, 0, 0, 0}}, 0, pixel_count_ * eye_outputs_ * sizeof(cl_float4));
   ensure_fragment_capacity(static_capacity_ ? slot_count_ : dynamic_capacity(bundle_size(geometry), bins_));
   host_pixel_sum_.resize(pixel_count_ * eye_outputs_);
 }
@@ -290,7 +301,7 @@ BatchCounts RayBundlePass::run(std::uint64_t first, std::uint32_t count) {
     iterate(iteration);
     if (eye_rounds_ % settings_.jitter_refresh == 0) {
       trace_eye_hits(eye_rounds_ / settings_.jitter_refresh);
-      counts.rays += pixel_count_;
+      counts.rays += pixel_count_ * views_.size();
     }
     ++eye_rounds_;
     const BundleIteration it = iteration_params(iteration);
@@ -299,40 +310,44 @@ BatchCounts RayBundlePass::run(std::uint64_t first, std::uint32_t count) {
                as_uint(vertex_count_), e_vertex_, eye_light_, cl_uint(scene_.alpha_masks), scene_.element_coverage);
       launcher_.launch("rb_vertex", vertex_, vertex_count_, 64);
     }
-    set_args(eye_, eye_hits_buffer_, elements_, patch_element_, scene_.materials, e_in_, patch_vertices_, e_vertex_,
-             cl_uint(settings_.gouraud ? 1 : 0), it, as_uint(pixel_count_), pixel_sum_, eye_light_, eye_normals_,
-             scene_.patch_materials, cl_uint(scene_.uv_slots), eye_texels_);
-    launcher_.launch("rb_eye", eye_, pixel_count_, 64);
+    for (const EyeView& view : views_) {
+      set_args(eye_, view.hits, elements_, patch_element_, scene_.materials, e_in_, patch_vertices_, e_vertex_,
+               cl_uint(settings_.gouraud ? 1 : 0), it, as_uint(pixel_count_), view.pixel_sum, eye_light_,
+               view.normals, scene_.patch_materials, cl_uint(scene_.uv_slots), view.texels);
+      launcher_.launch("rb_eye", eye_, pixel_count_, 64);
+    }
     // The device sums the eye estimates in float: move them to the host's double sums after every
     // max_batch() iterations (on multiples of it, wherever a batch starts) and at the batch's end, so
     // no float sum ever holds more than max_batch() terms -- also when a caller asks for 10^4
     // iterations at once (a round at --ratio 1e-4).
     if ((first + k + 1) % max_batch() == 0 || k + 1 == count) flush_pixel_sums(counts);
   }
-  accum_.samples_per_pixel += count;
+  for (const EyeView& view : views_) view.accum->samples_per_pixel += count;
   return counts;
 }
 
 void RayBundlePass::flush_pixel_sums(BatchCounts& counts) {
-  Accumulator& accum = accum_;
   launcher_.finish();
   const std::size_t bytes = host_pixel_sum_.size() * sizeof(cl_float4);
-  device_.queue.enqueueReadBuffer(pixel_sum_, CL_TRUE, 0, bytes, host_pixel_sum_.data());
-  device_.queue.enqueueFillBuffer(pixel_sum_, cl_float4{{0, 0, 0, 0}}, 0, bytes);
   cl_ulong fragments = 0;
   device_.queue.enqueueReadBuffer(fragment_total_, CL_TRUE, 0, sizeof(cl_ulong), &fragments);
   device_.queue.enqueueFillBuffer(fragment_total_, cl_ulong(0), 0, sizeof(cl_ulong));
   counts.fragments += fragments;
-  for (std::size_t i = 0; i < pixel_count_; ++i) {
-    const cl_float4& w = host_pixel_sum_[i * eye_outputs_];
-    const cl_float4& raw = host_pixel_sum_[i * eye_outputs_ + eye_outputs_ - 1];
-    if (!std::isfinite(w.s[0] + w.s[1] + w.s[2] + raw.s[0] + raw.s[1] + raw.s[2])) {
-      ++counts.nonfinite_samples;  // a pixel's sum since the last flush is dropped whole, and counted
-      continue;
+  for (const EyeView& view : views_) {
+    Accumulator& accum = *view.accum;
+    device_.queue.enqueueReadBuffer(view.pixel_sum, CL_TRUE, 0, bytes, host_pixel_sum_.data());
+    device_.queue.enqueueFillBuffer(view.pixel_sum, cl_float4{{0, 0, 0, 0}}, 0, bytes);
+    for (std::size_t i = 0; i < pixel_count_; ++i) {
+      const cl_float4& w = host_pixel_sum_[i * eye_outputs_];
+      const cl_float4& raw = host_pixel_sum_[i * eye_outputs_ + eye_outputs_ - 1];
+      if (!std::isfinite(w.s[0] + w.s[1] + w.s[2] + raw.s[0] + raw.s[1] + raw.s[2])) {
+        ++counts.nonfinite_samples;  // a pixel's sum since the last flush is dropped whole, and counted
+        continue;
+      }
+      for (int c = 0; c < 3; ++c) accum.sum[i * 3 + c] += double(w.s[c]);
+      if (accum.keeps_raw())
+        for (int c = 0; c < 3; ++c) accum.raw_sum[i * 3 + c] += double(raw.s[c]);
     }
-    for (int c = 0; c < 3; ++c) accum.sum[i * 3 + c] += double(w.s[c]);
-    if (accum.keeps_raw())
-      for (int c = 0; c < 3; ++c) accum.raw_sum[i * 3 + c] += double(raw.s[c]);
   }
 }
 
@@ -347,12 +362,14 @@ std::vector<T> read_all(const DeviceContext& device, Launcher& launcher, const c
 }  // namespace
 
 void RayBundlePass::trace_eye_hits(std::uint64_t jitter_index) {
-  set_args(eye_hits_, scene_.nodes, scene_.triangles, scene_.shading, scene_.materials, camera_,
-           cl_uint(settings_.seed ^ 0x5eed0e7eu), cl_uint(jitter_index), eye_hits_buffer_, scene_.shading_normals,
-           cl_uint(scene_.has_shading_normals), eye_normals_, cl_uint(scene_.uv_slots), scene_.texture_views,
-           scene_.texels, scene_.material_textures, scene_.texcoords, eye_texels_, cl_uint(scene_.alpha_masks),
-           scene_.ray_epsilon);
-  launcher_.launch("rb_eye_hits", eye_hits_, pixel_count_, 64);
+  for (const EyeView& view : views_) {
+    set_args(eye_hits_, scene_.nodes, scene_.triangles, scene_.shading, scene_.materials, view.camera,
+             cl_uint(settings_.seed ^ 0x5eed0e7eu), cl_uint(jitter_index), view.hits, scene_.shading_normals,
+             cl_uint(scene_.has_shading_normals), view.normals, cl_uint(scene_.uv_slots), scene_.texture_views,
+             scene_.texels, scene_.material_textures, scene_.texcoords, view.texels, cl_uint(scene_.alpha_masks),
+             scene_.ray_epsilon);
+    launcher_.launch("rb_eye_hits", eye_hits_, pixel_count_, 64);
+  }
 }
 
 RayBundlePass::State RayBundlePass::save_state() {

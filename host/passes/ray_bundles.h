@@ -74,11 +74,23 @@ std::size_t estimate_bundle_memory(const BundleSize& size, std::uint32_t bins, s
 void check_bundle_memory(const DeviceInfo& device, const BundleSize& size, std::uint32_t bins, std::size_t pixels,
                          std::uint32_t chains = 1, bool shading_normals = false, bool textures = false);
 
+// One view the pass gathers an eye estimate for: its camera and the accumulator the estimates go to
+// (sized like the camera's image; raw too if the pass keeps raw).
+struct RayBundleView {
+  CameraParams camera{};
+  Accumulator* accum = nullptr;
+};
+
 class RayBundlePass : public ProgressivePass {
  public:
-  // Adds its eye estimates into `accum` (sized like the camera's image; raw too if it keeps raw).
+  // Adds its eye estimates into `accum`.
   RayBundlePass(const DeviceContext& device, const DeviceScene& scene, const BundleGeometry& geometry,
                 const CameraParams& camera, const RayBundleSettings& settings, Accumulator& accum);
+  // Several views of one chain (walkthroughs, DESIGN.md §8): the patch state is view-independent, so
+  // each iteration runs once and each view adds its own eye gather (its own eye hits and sums). All
+  // views have the same image size. View k's image is the one-view pass's with view k's camera.
+  RayBundlePass(const DeviceContext& device, const DeviceScene& scene, const BundleGeometry& geometry,
+                const std::vector<RayBundleView>& views, const RayBundleSettings& settings);
 
   // Iterations [first, first + count) (after the warm-up, run on the first call). Any count: the
   // device's float sums are flushed to the accumulator's doubles every max_batch() iterations.
@@ -89,8 +101,9 @@ class RayBundlePass : public ProgressivePass {
   std::uint32_t bins() const { return bins_; }
   // N2 / N1 of the weights from the next iteration on (--ratio auto sets it once, after its probe).
   void set_weight_ratio(float n2_over_n1) { settings_.weight_ratio = n2_over_n1; }
-  std::uint32_t pixel_width() const { return camera_.width; }
-  std::uint32_t pixel_height() const { return camera_.height; }
+  std::uint32_t pixel_width() const { return views_.front().camera.width; }
+  std::uint32_t pixel_height() const { return views_.front().camera.height; }
+  std::size_t view_count() const { return views_.size(); }
 
   // One iteration without an eye estimate (the warm-up, and tests that read patch radiance).
   void iterate(std::uint64_t iteration);
@@ -114,17 +127,25 @@ class RayBundlePass : public ProgressivePass {
 
  private:
   void ensure_fragment_capacity(std::size_t fragments);
+  // Each view's jittered primary hits of this jitter period.
   void trace_eye_hits(std::uint64_t jitter_index);
   // Adds the device's float sums of eye estimates into the accumulator (double) and clears them;
   // the fragment count since the last flush too.
   void flush_pixel_sums(BatchCounts& counts);
 
+  // A view's eye gather: its primary hits (with their shading normals and texels: scenes with NORMAL,
+  // with textures; else one entry each) and the device's float sums of its eye estimates.
+  struct EyeView {
+    CameraParams camera{};
+    Accumulator* accum = nullptr;
+    cl::Buffer hits, normals, texels, pixel_sum;
+  };
+
   const DeviceContext& device_;
   const DeviceScene& scene_;
-  Accumulator& accum_;
   RayBundleSettings settings_;
   std::uint32_t chains_, eye_outputs_;
-  CameraParams camera_;
+  std::vector<EyeView> views_;
   std::uint32_t bins_;
   std::size_t element_count_, patch_count_, pixel_count_, tile_count_;
   glm::vec3 centre_;
@@ -135,15 +156,13 @@ class RayBundlePass : public ProgressivePass {
   cl::Kernel outgoing_, emit_, tile_scatter_, tile_resolve_, gather_, eye_hits_, vertex_, eye_;
   cl::Buffer elements_, patch_element_, e_in_, l_out_;
   cl::Buffer eye_light_;  // per patch: its light sample weighted for the eye vertex, and its direction
-  cl::Buffer eye_normals_;
-  cl::Buffer eye_texels_;  // per pixel: the eye hit's texel kd + shininess, ks + flag, emission (textures; else one entry)  // per pixel: the eye hit's shading normal (scenes with NORMAL; else one entry)
   // Fragments in per-element slots (slot_start: raster_fragment_bound of them per element).
   cl::Buffer slot_start_, fragment_counts_, fragment_key_, fragment_depth_, tiled_at_, fragment_total_;
   std::size_t slot_count_ = 0;
   bool static_capacity_ = false;  // the tiled buffers hold every slot (else: read back and grow)
   cl::Buffer patch_vertices_, vertex_patch_start_, vertex_patches_, e_vertex_;
   std::size_t vertex_count_;
-  cl::Buffer tile_counts_, tile_start_, eye_hits_buffer_, pixel_sum_;
+  cl::Buffer tile_counts_, tile_start_;
   cl::Buffer received_minus_, received_plus_;
   cl::Buffer tiled_local_, tiled_depth_, tiled_element_, tile_order_;
   std::size_t fragment_capacity_ = 0;

@@ -16,6 +16,7 @@ std::string options_key(const RenderSpec& o, int width, int height, float patch_
   if (o.environment != std::array<float, 3>{0.0f, 0.0f, 0.0f})
     key += ";environment=" + std::to_string(o.environment[0]) + "," + std::to_string(o.environment[1]) + "," +
            std::to_string(o.environment[2]);
+  if (!o.views.camera.empty()) key += ";camera=" + o.views.camera;  // --camera: other than the default view
   if (o.mode != "pt")
     key += ";bins=" + std::to_string(bins) + ";warmup=" + std::to_string(o.warmup) +
            (o.contact_depth >= 0.0f ? ";contact_depth=" + std::to_string(o.contact_depth) : "") +
@@ -25,6 +26,20 @@ std::string options_key(const RenderSpec& o, int width, int height, float patch_
            ";eye_direct=" + eye_direct + (rb_level_corrected(o) ? ";rb_level=corrected" : "") +
            ";round=" + std::to_string(shape->pt_samples) + "spp+" + std::to_string(shape->rb_iterations) + "it";
   return key;
+}
+
+std::string views_key(const RenderSpec& o, const std::vector<SceneCamera>& views) {
+  if (!o.views.frames()) return "";
+  std::uint64_t hash = 1469598103934665603ull;  // FNV-1a over the cameras' floats
+  for (const SceneCamera& c : views) {
+    const float values[] = {c.position.x, c.position.y, c.position.z, c.forward.x, c.forward.y,
+                            c.forward.z,  c.up.x,       c.up.y,       c.up.z,      c.yfov};
+    const auto* bytes = reinterpret_cast<const unsigned char*>(values);
+    for (std::size_t i = 0; i < sizeof values; ++i) hash = (hash ^ bytes[i]) * 1099511628211ull;
+  }
+  char text[64];
+  std::snprintf(text, sizeof text, ";views=%zu:%016llx", views.size(), static_cast<unsigned long long>(hash));
+  return text;
 }
 
 std::optional<RoundShape> round_of_key(const std::string& key) {

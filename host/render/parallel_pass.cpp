@@ -24,12 +24,6 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
 
-void add(BatchCounts& total, const BatchCounts& c) {
-  total.rays += c.rays;
-  total.fragments += c.fragments;
-  total.nonfinite_samples += c.nonfinite_samples;
-}
-
 std::string lane_label(const DeviceLane& lane) {
   return "device [" + std::to_string(lane.device_index) + "] " + lane.device_name;
 }
@@ -81,11 +75,11 @@ void ParallelPass::run_lane(DeviceLane& lane, std::uint64_t first, std::uint64_t
     const std::uint64_t pt_max = std::max<std::uint32_t>(1, lane.pt->max_batch());
     for (std::uint64_t s = first; s < end;) {
       const std::uint64_t next = std::min(end, (s / pt_max + 1) * pt_max);
-      add(counts, lane.pt->run(s, std::uint32_t(next - s)));
+      counts += lane.pt->run(s, std::uint32_t(next - s));
       s = next;
     }
   } else if (end > first) {
-    add(counts, lane.rb->run(first, std::uint32_t(end - first)));
+    counts += lane.rb->run(first, std::uint32_t(end - first));
   }
   if (lane.device_index == slow_device_)
     std::this_thread::sleep_for(std::chrono::duration<double>((slow_factor_ - 1.0) * seconds_since(sampling)));
@@ -133,7 +127,7 @@ BatchCounts ParallelPass::run(std::uint64_t first, std::uint32_t count) {
   for (std::size_t i = 0; i < lanes_.size(); ++i) {
     DeviceLane& lane = lanes_[i];
     (lane.pt ? pt_total_ : rb_total_).add(*lane.accum);
-    add(total, work[i].counts);
+    total += work[i].counts;
     (lane.pt ? lane.pt_samples : lane.rb_iterations) += work[i].end - work[i].first;
     ++lane.batches;
   }

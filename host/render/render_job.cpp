@@ -9,61 +9,91 @@
 #include "render/render_stats.h"
 
 #include <cmath>
+#include <optional>
 
 namespace bp {
 namespace {
+
+// Each view's estimate after the rounds done (closing a batch where they end one), and the worst.
+void update_error_estimates(RenderState& s, std::optional<std::uint64_t> rounds_done) {
+  s.estimated_rel_mse = NAN;
+  for (RenderView& view : s.views) {
+    if (rounds_done) view.error_estimate->add(*rounds_done, view.round_sums);
+    view.estimated_rel_mse = view.error_estimate->estimated_rel_mse(view.round_sums);
+    if (std::isnan(s.estimated_rel_mse) || view.estimated_rel_mse > s.estimated_rel_mse)
+      s.estimated_rel_mse = view.estimated_rel_mse;
+  }
+}
 
 // A resumed render starts from the checkpoint's accumulators, ray-bundle state and round count.
 void resume(RenderState& s) {
   const RenderSpec& o = s.spec;
   s.key = options_key(o, s.scene.width, s.scene.height, s.scene.patch_size, s.rb ? s.rb_settings.bins : 0, s.shape,
-                      s.eye_direct_shared ? "shared" : "pt");
+                      s.eye_direct_shared ? "shared" : "pt") +
+          views_key(o, s.scene.views);
   if (!s.resumed) return;
   Checkpoint& c = *s.resumed;
   if (c.options != s.key)
     throw UsageError("--resume " + o.resume_path + " was saved with other options:\n  saved: " + c.options +
                      "\n  now:   " + s.key);
-  if (s.ranks.root()) {  // the render's sums (on several ranks root's alone are the render's)
-    if (!s.pt.empty() && c.pt) s.pt_accum = *c.pt;
-    if (s.rb && c.rb) s.rb_accum = *c.rb;
+  // The key holds a walkthrough's views: the checkpoint has as many.
+  if (c.further_views.size() + 1 != s.views.size())
+    throw UsageError("--resume " + o.resume_path + " holds " + std::to_string(c.further_views.size() + 1) +
+                     " view(s), this render has " + std::to_string(s.views.size()));
+  for (std::size_t k = 0; s.ranks.root() && k < s.views.size(); ++k) {  // root's sums alone are the render's
+    const std::optional<Accumulator>& pt = k ? c.further_views[k - 1].pt : c.pt;
+    const std::optional<Accumulator>& rb = k ? c.further_views[k - 1].rb : c.rb;
+    if (!s.pt.empty() && pt) s.views[k].pt_accum = *pt;
+    if (s.rb && rb) s.views[k].rb_accum = *rb;
   }
   if (s.rb && c.rb_state) s.rb->load_state(*c.rb_state);  // every rank's chain from the saved one
   s.first_round = c.rounds;
   s.earlier_seconds = c.render_seconds;
 }
 
-// The error estimate (DESIGN.md §9): batches of both estimators together, each long enough for RB's
-// chain -- kErrorBatchRbIterations iterations (--error-batch), in rounds of the combination.
+// The error estimate (DESIGN.md §9), one per view: batches of both estimators together, each long
+// enough for RB's chain -- kErrorBatchRbIterations iterations (--error-batch), in rounds of the combination.
 void start_error_estimate(RenderState& s) {
   const RenderSpec& o = s.spec;
   const std::uint64_t rb_batch_iterations = o.error_batch ? o.error_batch : kErrorBatchRbIterations;
   const std::uint64_t error_batch_rounds =
       !s.rb ? 1 : s.shape ? (rb_batch_iterations + s.shape->rb_iterations - 1) / s.shape->rb_iterations
                           : rb_batch_iterations;
-  // The image times the rounds: pt.sum / N1 + rb.sum / N2 per round (eq. 3; N1 = N2 = 1 alone).
-  if (!s.pt.empty() && (!s.shape || s.shape->pt_samples > 0)) {
-    s.round_sums.first = &s.pt_accum.sum;
-    s.round_sums.first_scale = s.shape ? 1.0 / s.shape->pt_samples : 1.0;
-  }
-  if (s.rb) {
-    s.round_sums.second = &s.rb_accum.sum;
-    s.round_sums.second_scale = s.shape ? 1.0 / s.shape->rb_iterations : 1.0;
-  }
   const int width = s.scene.width, height = s.scene.height;
-  if (s.resumed && s.resumed->error_estimate)
-    s.error_estimate.emplace(BatchMeansErrorEstimate::from_state(*s.resumed->error_estimate, width, height));
-  else
-    s.error_estimate.emplace(width, height, error_batch_rounds, o.error_levels, s.first_round,
-                             s.first_round ? &s.round_sums : nullptr);
-  s.estimated_rel_mse = s.error_estimate->estimated_rel_mse(s.round_sums);
+  for (std::size_t k = 0; k < s.views.size(); ++k) {
+    RenderView& view = s.views[k];
+    const std::optional<BatchMeansErrorEstimate::State>* saved =
+        !s.resumed ? nullptr : k ? &s.resumed->further_views[k - 1].error_estimate : &s.resumed->error_estimate;
+    // The image times the rounds: pt.sum / N1 + rb.sum / N2 per round (eq. 3; N1 = N2 = 1 alone).
+    if (!s.pt.empty() && (!s.shape || s.shape->pt_samples > 0)) {
+      view.round_sums.first = &view.pt_accum.sum;
+      view.round_sums.first_scale = s.shape ? 1.0 / s.shape->pt_samples : 1.0;
+    }
+    if (s.rb) {
+      view.round_sums.second = &view.rb_accum.sum;
+      view.round_sums.second_scale = s.shape ? 1.0 / s.shape->rb_iterations : 1.0;
+    }
+    if (saved && *saved)
+      view.error_estimate.emplace(BatchMeansErrorEstimate::from_state(**saved, width, height));
+    else
+      view.error_estimate.emplace(width, height, error_batch_rounds, o.error_levels, s.first_round,
+                                  s.first_round ? &view.round_sums : nullptr);
+  }
+  update_error_estimates(s, std::nullopt);
 }
 
 // --rb-level corrected (image/rb_level.h): the levels of RB's layer and of PT's estimate of it,
 // batched like the render loop's batches.
-void start_rb_level(RenderState& s) {
+void start_rb_levels(RenderState& s) {
   if (!rb_level_corrected(s.spec) || !s.shape || s.shape->pt_samples == 0 || !s.rb) return;
-  s.rb_level.emplace(s.first_round, s.pt_accum, s.shape->pt_samples, s.rb_accum, s.shape->rb_iterations,
-                     s.resumed ? s.resumed->rb_level : std::nullopt);
+  for (std::size_t k = 0; k < s.views.size(); ++k) {
+    RenderView& view = s.views[k];
+    const std::optional<RbLevel::State> none;
+    const std::optional<RbLevel::State>& saved =
+        !s.resumed ? none : k ? s.resumed->further_views[k - 1].rb_level : s.resumed->rb_level;
+    view.rb_level.emplace(s.first_round, view.pt_accum, s.shape->pt_samples, view.rb_accum, s.shape->rb_iterations,
+                          saved);
+  }
 }
 
 void save_checkpoint(RenderState& s, std::uint64_t rounds, double seconds) {
@@ -71,13 +101,23 @@ void save_checkpoint(RenderState& s, std::uint64_t rounds, double seconds) {
   c.options = s.key;
   c.rounds = rounds;
   c.render_seconds = s.earlier_seconds + seconds;
-  if (!s.pt.empty()) c.pt = s.pt_accum;
-  if (s.rb) {
-    c.rb = s.rb_accum;
-    c.rb_state = s.rb->save_state();
+  for (std::size_t k = 0; k < s.views.size(); ++k) {
+    const RenderView& view = s.views[k];
+    Checkpoint::View saved;
+    if (!s.pt.empty()) saved.pt = view.pt_accum;
+    if (s.rb) saved.rb = view.rb_accum;
+    saved.error_estimate = view.error_estimate->state();
+    if (view.rb_level) saved.rb_level = view.rb_level->state();
+    if (k) {
+      c.further_views.push_back(std::move(saved));
+    } else {
+      c.pt = std::move(saved.pt);
+      c.rb = std::move(saved.rb);
+      c.error_estimate = std::move(saved.error_estimate);
+      c.rb_level = std::move(saved.rb_level);
+    }
   }
-  c.error_estimate = s.error_estimate->state();
-  if (s.rb_level) c.rb_level = s.rb_level->state();
+  if (s.rb) c.rb_state = s.rb->save_state();
   write_checkpoint(s.spec.checkpoint_path, c);
 }
 
@@ -85,6 +125,12 @@ void save_checkpoint(RenderState& s, std::uint64_t rounds, double seconds) {
 void build_schedule(RenderState& s) {
   const RenderSpec& o = s.spec;
   s.pass = !s.pt.empty() ? static_cast<ProgressivePass*>(s.pt.front().get()) : s.rb.get();
+  if (s.walkthrough() && !s.pt.empty()) {  // every view's path tracer, the same samples
+    std::vector<ProgressivePass*> views;
+    for (auto& pt : s.pt) views.push_back(pt.get());
+    s.each_view_pt = std::make_unique<EachViewPass>(std::move(views));
+    s.pass = s.each_view_pt.get();
+  }
   s.rounds = o.mode == "rb" ? o.iterations : o.spp;
   if (s.several_devices()) {
     std::vector<DeviceLane> lanes;
@@ -108,13 +154,14 @@ void build_schedule(RenderState& s) {
     s.pass = parallel.get();
     s.schedule = std::move(parallel);
   } else if (s.shape) {
-    s.schedule = std::make_unique<CombinedPass>(*s.pt.front(), *s.rb, *s.shape);
+    ProgressivePass& pt = s.each_view_pt ? *s.each_view_pt : static_cast<ProgressivePass&>(*s.pt.front());
+    s.schedule = std::make_unique<CombinedPass>(pt, *s.rb, *s.shape);
     s.pass = s.schedule.get();
   }
   if (s.several_ranks()) {
     std::vector<RankSums> sums;
-    if (!s.pt.empty()) sums.push_back(RankSums{&s.pt_rank_accum(), &s.pt_accum});
-    if (s.rb) sums.push_back(RankSums{&s.rb_rank_accum(), &s.rb_accum});
+    if (!s.pt.empty()) sums.push_back(RankSums{&s.pt_rank_accum(), &s.first_view().pt_accum});
+    if (s.rb) sums.push_back(RankSums{&s.rb_rank_accum(), &s.first_view().rb_accum});
     s.rank_schedule = std::make_unique<RankPass>(*s.pass, s.ranks, std::move(sums));
     s.pass = s.rank_schedule.get();
   }
@@ -157,17 +204,18 @@ void render_rounds(RenderState& s, RenderObserver& observer) {
   // --target-error: done once enough batches say the relMSE is at most X (checked after each batch).
   if (o.target_error > 0.0 && s.ranks.root())
     budget.target_reached = [&] {
-      return s.error_estimate->batches() >= kMinBatchesForTarget && s.estimated_rel_mse <= o.target_error;
+      return s.first_view().error_estimate->batches() >= kMinBatchesForTarget && s.estimated_rel_mse <= o.target_error;
     };
   s.outcome = run_progressive(
       *s.pass, budget, observer.stop_requested(),
       [&](const RenderProgress& p) {
         if (!s.ranks.root()) return;  // its accumulators hold its last batch only
         double secs = std::max(p.elapsed_seconds, 1e-9);
-        s.error_estimate->add(p.rounds_done, s.round_sums);
-        s.estimated_rel_mse = s.error_estimate->estimated_rel_mse(s.round_sums);
-        if (s.rb_level) s.rb_level->add(p.rounds_done);
+        update_error_estimates(s, p.rounds_done);
+        for (RenderView& view : s.views)
+          if (view.rb_level) view.rb_level->add(p.rounds_done);
         RenderProgressReport report;
+        report.frames = s.views.size();
         report.fraction = p.fraction;
         if (o.target_error > 0.0 && std::isfinite(s.estimated_rel_mse) && p.rounds_done > s.first_round) {
           // relMSE ∝ 1/N: X is reached after N·relMSE/X rounds, at this run's seconds per round.
@@ -242,7 +290,7 @@ RenderResult RenderJob::run(RenderObserver& observer) {
   choose_auto_settings(s, observer);
   resume(s);
   start_error_estimate(s);
-  start_rb_level(s);
+  start_rb_levels(s);
   build_schedule(s);
   render_rounds(s, observer);
 
@@ -253,17 +301,26 @@ RenderResult RenderJob::run(RenderObserver& observer) {
   r.combined = s.shape.has_value();
   r.mrays_per_second = s.outcome.seconds > 0 ? double(s.outcome.rays) / s.outcome.seconds * 1e-6 : 0.0;
   r.estimated_rel_mse = s.estimated_rel_mse;
-  r.error_batches = s.error_estimate->batches();
-  r.error_batch_rounds = s.error_estimate->batch_rounds();
+  r.error_batches = s.first_view().error_estimate->batches();
+  r.error_batch_rounds = s.first_view().error_estimate->batch_rounds();
   count_work(s, r);
   r.ranks = s.ranks.size();
   if (!s.ranks.root()) return r;  // root alone holds the render's sums and writes its files
-  RenderLayers layers = make_layers(s);
-  write_images(s, layers, r);
-  r.reference_metrics = compare_layers(s, layers);
+  for (const RenderView& view : s.views) {
+    RenderLayers layers = make_layers(s, view);
+    RenderFrame frame = write_images(s, view, layers);
+    frame.estimated_rel_mse = view.estimated_rel_mse;
+    if (r.frames.empty()) {
+      r.reference_metrics = compare_layers(s, layers);
+      r.exr_path = frame.exr_path;
+      r.png_path = frame.png_path;
+      r.layers = std::move(layers.images);
+    }
+    r.frames.push_back(frame);
+  }
+  if (!spec_.video_path.empty()) encode_video(s, r);
   r.stats = render_stats(s, r);
   if (!spec_.stats_path.empty()) write_json_file(spec_.stats_path, r.stats);
-  r.layers = std::move(layers.images);
   return r;
 }
 

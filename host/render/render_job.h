@@ -25,8 +25,9 @@ struct RenderProgressReport {
   const char* rate_unit = "samples/s";
   double mrays_per_second = 0.0;
   double elapsed_seconds = 0.0;
-  double estimated_rel_mse = NAN;  // NaN before two error-estimate batches
+  double estimated_rel_mse = NAN;  // the worst frame's; NaN before two error-estimate batches
   double eta_seconds = NAN;        // NaN: from the fraction
+  std::size_t frames = 1;          // views rendered together (a walkthrough's frames)
 };
 
 class RenderObserver {
@@ -51,6 +52,12 @@ struct DeviceWorkReport {
   double busy_seconds = 0.0;                        // time its passes ran
 };
 
+// One view's image files (a walkthrough's frame k: PREFIX_000k.exr, .png).
+struct RenderFrame {
+  std::string exr_path, png_path;
+  double estimated_rel_mse = NAN;
+};
+
 struct RenderResult {
   RenderOutcome outcome;
   int width = 0, height = 0;
@@ -59,12 +66,14 @@ struct RenderResult {
   double mrays_per_second = 0.0;
   std::string exr_path, png_path;
   std::vector<std::pair<std::string, ErrorMetrics>> reference_metrics;  // per layer, with --reference
-  double estimated_rel_mse = NAN;
+  double estimated_rel_mse = NAN;  // a walkthrough: its worst frame's
   std::uint64_t error_batches = 0, error_batch_rounds = 0;
   std::vector<DeviceWorkReport> devices;            // this rank's
   int ranks = 1;                                    // the processes that rendered it (MPI ranks)
-  // The image's layers as written ("" the combined image; render_outputs.h), and the stats (written
-  // to --stats when given).
+  std::vector<RenderFrame> frames;  // one per view, in order (a plain render: one, its exr and png paths)
+  std::string video_path;           // --video, once encoded
+  // The (first frame's) image's layers as written ("" the combined image; render_outputs.h), and the
+  // stats (written to --stats when given).
   std::vector<std::pair<std::string, ImageRGB>> layers;
   nlohmann::json stats;
   std::string device_failure;  // empty, or which device failed mid-render and why (the image is what was done)

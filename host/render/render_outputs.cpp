@@ -1,6 +1,7 @@
 #include "render/render_outputs.h"
 
 #include "image/contact_sheet.h"
+#include "image/video.h"
 #include "render/render_state.h"
 
 #include <array>
@@ -22,37 +23,39 @@ const ImageRGB* RenderLayers::find(const std::string& name) const {
   return nullptr;
 }
 
-RenderLayers make_layers(const RenderState& s) {
+RenderLayers make_layers(const RenderState& s, const RenderView& view) {
   const int width = s.scene.width, height = s.scene.height;
   const bool pt = !s.pt.empty();
   RenderLayers layers;
-  ImageRGB pt_image = pt ? s.pt_accum.mean() : ImageRGB(width, height);
-  ImageRGB rb_image = s.rb ? s.rb_accum.mean() : ImageRGB(width, height);
+  ImageRGB pt_image = pt ? view.pt_accum.mean() : ImageRGB(width, height);
+  ImageRGB rb_image = s.rb ? view.rb_accum.mean() : ImageRGB(width, height);
   // The combined image, pt + s·rb with --rb-level corrected's s (image/rb_level.h); the rb layer
   // stays RB's own weighted estimate.
-  const std::array<double, 3> rb_factors = s.rb_level ? s.rb_level->factors() : std::array<double, 3>{1.0, 1.0, 1.0};
+  const std::array<double, 3> rb_factors =
+      view.rb_level ? view.rb_level->factors() : std::array<double, 3>{1.0, 1.0, 1.0};
   layers.images.emplace_back("", sum_images(pt_image, rb_image, rb_factors));
   if (s.shape) {
     layers.images.emplace_back("pt", pt_image);
     layers.images.emplace_back("rb", rb_image);
   }
   if (s.spec.all_layers) {
-    if (pt) layers.images.emplace_back("pt_raw", s.pt_accum.raw_mean());
-    if (s.rb) layers.images.emplace_back("rb_raw", s.rb_accum.raw_mean());
+    if (pt) layers.images.emplace_back("pt_raw", view.pt_accum.raw_mean());
+    if (s.rb) layers.images.emplace_back("rb_raw", view.rb_accum.raw_mean());
   }
   return layers;
 }
 
-void write_images(const RenderState& s, const RenderLayers& layers, RenderResult& result) {
+RenderFrame write_images(const RenderState& s, const RenderView& view, const RenderLayers& layers) {
   const RenderSpec& o = s.spec;
-  std::filesystem::path prefix(o.out_prefix);
+  std::filesystem::path prefix(view.out_prefix);
   if (prefix.has_parent_path()) std::filesystem::create_directories(prefix.parent_path());
-  result.exr_path = o.out_prefix + ".exr";
-  result.png_path = o.out_prefix + ".png";
+  RenderFrame result;
+  result.exr_path = view.out_prefix + ".exr";
+  result.png_path = view.out_prefix + ".png";
   std::vector<ImageLayer> exr_layers;
   for (const auto& [name, img] : layers.images) exr_layers.push_back({name, &img});
   // Each pixel's standard error of the combined image (DESIGN.md §9), beside the layers.
-  const ImageRGB standard_error = s.error_estimate->standard_error();
+  const ImageRGB standard_error = view.error_estimate->standard_error();
   exr_layers.push_back({"stderr", &standard_error});
   write_exr(result.exr_path, exr_layers);
   write_png(result.png_path, layers.images.front().second, o.exposure);
@@ -67,6 +70,15 @@ void write_images(const RenderState& s, const RenderLayers& layers, RenderResult
                          {"reference", reference}},
                         o.exposure);
   }
+  return result;
+}
+
+void encode_video(const RenderState& s, RenderResult& result) {
+  const RenderSpec& o = s.spec;
+  std::filesystem::path video(o.video_path);
+  if (video.has_parent_path()) std::filesystem::create_directories(video.parent_path());
+  encode_png_sequence(o.out_prefix + "_%04d.png", o.views.fps, o.video_path);
+  result.video_path = o.video_path;
 }
 
 std::vector<std::pair<std::string, ErrorMetrics>> compare_layers(const RenderState& s, const RenderLayers& layers) {

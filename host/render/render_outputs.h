@@ -11,6 +11,7 @@
 namespace bp {
 
 struct RenderState;
+struct RenderView;
 
 // "" is the combined image (R,G,B = pt + rb of the weighted images, eq. 3); then pt, rb (combined
 // renders) and pt_raw, rb_raw (--layers all).
@@ -18,11 +19,15 @@ struct RenderLayers {
   std::vector<std::pair<std::string, ImageRGB>> images;
   const ImageRGB* find(const std::string& name) const;
 };
-RenderLayers make_layers(const RenderState& s);
+RenderLayers make_layers(const RenderState& s, const RenderView& view);
 
-// Writes PREFIX.exr (the layers and the standard error), PREFIX.png and the contact sheet; sets the
-// result's paths.
-void write_images(const RenderState& s, const RenderLayers& layers, RenderResult& result);
+// Writes the view's PREFIX.exr (the layers and the standard error), PREFIX.png and the contact sheet
+// (one view); gives their paths.
+RenderFrame write_images(const RenderState& s, const RenderView& view, const RenderLayers& layers);
+
+// --video: the frames' PNGs encoded by ffmpeg at --fps (H.264, yuv420p); throws std::runtime_error
+// when ffmpeg fails. Sets the result's video_path.
+void encode_video(const RenderState& s, RenderResult& result);
 
 // Each layer against the reference ("combined" for the combined image); empty without one.
 std::vector<std::pair<std::string, ErrorMetrics>> compare_layers(const RenderState& s, const RenderLayers& layers);

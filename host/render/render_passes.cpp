@@ -5,6 +5,8 @@
 #include "render/checkpoint_key.h"
 #include "render/parallel_pass.h"
 
+#include <unistd.h>
+
 namespace bp {
 namespace {
 
@@ -44,6 +46,11 @@ void choose_round(RenderState& s) {
 void open_devices(RenderState& s) {
   const RenderSpec& o = s.spec;
   const std::vector<DeviceInfo> infos = select_devices(o.device);
+  if (infos.size() > 1 && s.walkthrough())
+    throw UsageError("a walkthrough renders on one device: --device names " + std::to_string(infos.size()));
+  if (s.several_ranks() && s.walkthrough())
+    throw UsageError("a walkthrough renders in one process: run it without mpirun (" +
+                     std::to_string(s.ranks.size()) + " ranks)");
   s.roles = assign_device_roles(o.mode, infos.size());
   // The light tree and its per-patch receivers only where light sampling acts (power needs neither).
   const bool light_tree = light_sampling_applies(o) && o.light_selection == "tree";
@@ -74,9 +81,68 @@ static Accumulator& pass_accumulator(RenderState& s, Accumulator& rank_accum) {
   return s.lane_accums.emplace_back(rank_accum.width, rank_accum.height, rank_accum.keeps_raw());
 }
 
-static void build_rb_pass(RenderState& s, Accumulator& accum) {
-  s.rb = std::make_unique<RayBundlePass>(s.rb_device().context, s.rb_device().scene, *s.geometry, s.camera,
-                                         s.rb_settings, accum);
+// One chain for every view (DESIGN.md §8): each view adds its own eye gather per iteration. On several
+// devices or ranks (one view) the pass adds into s.rb_pass_accum.
+static void build_rb_pass(RenderState& s) {
+  std::vector<RayBundleView> views;
+  for (RenderView& view : s.views)
+    views.push_back(RayBundleView{view.camera, s.rb_pass_accum ? s.rb_pass_accum : &view.rb_accum});
+  s.rb = std::make_unique<RayBundlePass>(s.rb_device().context, s.rb_device().scene, *s.geometry, views, s.rb_settings);
+}
+
+// Whether PT keeps its unweighted sums: for --layers all, and for the corrected RB level.
+static bool pt_keeps_raw(const RenderSpec& o) { return o.all_layers || rb_level_corrected(o); }
+
+// The views' cameras, accumulators and output prefixes: a walkthrough's frames are PREFIX_0000, ...
+static void build_views(RenderState& s) {
+  const RenderSpec& o = s.spec;
+  const int width = s.scene.width, height = s.scene.height;
+  for (std::size_t k = 0; k < s.scene.views.size(); ++k) {
+    RenderView& view = s.views.emplace_back();
+    view.scene_camera = s.scene.views[k];
+    view.camera = pack_camera(view.scene_camera, width, height);
+    // PT's unweighted sums also give the corrected RB level (image/rb_level.h).
+    view.pt_accum = Accumulator(width, height, pt_keeps_raw(o));
+    view.rb_accum = Accumulator(width, height, o.all_layers);
+    view.out_prefix = s.walkthrough() ? printf_text("%s_%04zu", o.out_prefix.c_str(), k) : o.out_prefix;
+  }
+}
+
+// A pass per PT device; a walkthrough (one device) a pass per view.
+static void build_pt_passes(RenderState& s) {
+  if (s.walkthrough()) {
+    for (RenderView& view : s.views)
+      s.pt.push_back(std::make_unique<PathTracerPass>(s.pt_device().context, s.pt_device().scene, view.camera,
+                                                      s.pt_settings, view.pt_accum));
+    return;
+  }
+  for (std::size_t k = 0; k < s.roles.pt.size(); ++k) {
+    s.pt_pass_accums.push_back(&pass_accumulator(s, s.pt_rank_accum()));
+    s.pt.push_back(std::make_unique<PathTracerPass>(s.pt_device(k).context, s.pt_device(k).scene,
+                                                    s.first_view().camera, s.pt_settings, *s.pt_pass_accums.back()));
+  }
+}
+
+// What grows with the views: per view the path tracer's pixel sums and RB's eye hits and sums on the
+// device, and the accumulators and error estimate on the host. Refused naming the size and the views.
+static void check_view_memory(const RenderState& s, std::size_t rb_device_bytes) {
+  const RenderSpec& o = s.spec;
+  const std::size_t views = s.scene.views.size(), pixels = std::size_t(s.scene.width) * s.scene.height;
+  const DeviceInfo& device = s.devices.front()->context.info;
+  const std::size_t device_bytes = rb_device_bytes + (s.use_pt ? views * pixels * sizeof(PixelAccum) : 0);
+  // Host: per view the pt and rb sums (raw too with --layers all), the error estimate's two sums per
+  // level and the layers written at the end (floats), all RGB.
+  const std::size_t host_bytes =
+      views * pixels * 3 * (sizeof(double) * (2 * (o.all_layers ? 2 : 1) + 2 * std::size_t(o.error_levels)) + 4 * 4);
+  const std::size_t host_memory = std::size_t(sysconf(_SC_PHYS_PAGES)) * std::size_t(sysconf(_SC_PAGE_SIZE));
+  const bool device_short = device_bytes > device.global_memory_bytes / 4 * 3;
+  if (device_short || host_bytes > host_memory / 2)
+    throw UsageError(printf_text("%zu view(s) of %dx%d need about %zu MiB of %s memory, more than %s offers (%zu MiB): "
+                                 "lower --width/--height or the number of views",
+                                 views, s.scene.width, s.scene.height, (device_short ? device_bytes : host_bytes) >> 20,
+                                 device_short ? "device" : "host",
+                                 device_short ? device.device_name.c_str() : "this machine",
+                                 std::size_t(device_short ? device.global_memory_bytes : host_memory) >> 20));
 }
 
 void build_passes(RenderState& s) {
@@ -84,7 +150,6 @@ void build_passes(RenderState& s) {
   const Scene& scene = s.scene.scene;
   const DeviceScene& first_scene = s.devices.front()->scene;
   const int width = s.scene.width, height = s.scene.height;
-  s.camera = pack_camera(scene.camera, width, height);
   s.light_sampling = light_sampling_applies(o) && first_scene.light_count > 0;
   s.light_rate = o.light_rate > 0.0f ? o.light_rate
                                      : default_light_rate(s.scene.patches.patch_count, std::size_t(width) * height);
@@ -93,14 +158,6 @@ void build_passes(RenderState& s) {
   // --eye-direct auto builds them shared (RB's chains are a superset) and decides later.
   const bool eye_direct_auto = s.light_sampling && s.use_pt && s.use_rb && o.eye_direct == "auto";
   s.eye_direct_shared = s.light_sampling && (o.eye_direct == "shared" || eye_direct_auto);
-  // PT's unweighted sums also give the corrected RB level (image/rb_level.h).
-  const bool pt_keeps_raw = o.all_layers || rb_level_corrected(o);
-  s.pt_accum = Accumulator(width, height, pt_keeps_raw);
-  s.rb_accum = Accumulator(width, height, o.all_layers);
-  if (s.several_ranks()) {
-    s.pt_rank_batch = Accumulator(width, height, pt_keeps_raw);
-    s.rb_rank_batch = Accumulator(width, height, o.all_layers);
-  }
 
   if (s.use_pt) {
     PathTracerSettings& settings = s.pt_settings;
@@ -113,12 +170,8 @@ void build_passes(RenderState& s) {
     settings.light_sampling = s.light_sampling;
     settings.eye_direct_shared = s.eye_direct_shared;
     settings.kernel_options = s.kernel_options;
-    for (std::size_t k = 0; k < s.roles.pt.size(); ++k) {
-      s.pt_pass_accums.push_back(&pass_accumulator(s, s.pt_rank_accum()));
-      s.pt.push_back(std::make_unique<PathTracerPass>(s.pt_device(k).context, s.pt_device(k).scene, s.camera,
-                                                      settings, *s.pt_pass_accums.back()));
-    }
   }
+  std::size_t rb_device_bytes = 0;
   if (s.use_rb) {
     const BundleSize size = bundle_size(scene, s.scene.patches);
     RayBundleSettings& rb = s.rb_settings;
@@ -142,9 +195,22 @@ void build_passes(RenderState& s) {
     } catch (const std::invalid_argument& e) {
       throw UsageError(e.what());
     }
+    // A walkthrough's views each have their eye hits and sums: checked with the views below.
+    rb_device_bytes = estimate_bundle_memory(size, rb.bins, std::size_t(width) * height * s.scene.views.size(),
+                                             bundle_chains(rb), scene.has_shading_normals(), scene.has_textures());
+  }
+  if (s.scene.views.size() > 1) check_view_memory(s, rb_device_bytes);
+  build_views(s);
+  if (s.several_ranks()) {  // one view (a walkthrough refuses ranks, open_devices)
+    s.pt_rank_batch = Accumulator(width, height, pt_keeps_raw(o));
+    s.rb_rank_batch = Accumulator(width, height, o.all_layers);
+  }
+  if (s.use_pt) build_pt_passes(s);
+  if (s.use_rb) {
     s.geometry = build_bundle_geometry(scene, s.scene.patches);
-    s.rb_pass_accum = &pass_accumulator(s, s.rb_rank_accum());
-    build_rb_pass(s, *s.rb_pass_accum);
+    // Several devices or ranks: the pass adds into an accumulator of its own (one view).
+    if (s.several_devices() || s.several_ranks()) s.rb_pass_accum = &pass_accumulator(s, s.rb_rank_accum());
+    build_rb_pass(s);
   }
 }
 
@@ -155,8 +221,12 @@ static RatioProbe run_probe(RenderState& s, double pt_time_share) {
   const ProbeImageSize size = probe_image_size(s.scene.width, s.scene.height);
   Accumulator probe_accum(size.width, size.height, false);
   PathTracerPass probe_pt(s.pt_device().context, s.pt_device().scene,
-                          pack_camera(s.scene.scene.camera, size.width, size.height), s.pt_settings, probe_accum);
-  return probe_ratio(probe_pt, std::size_t(s.scene.width) * s.scene.height, *s.rb, *s.rb_pass_accum,
+                          pack_camera(s.first_view().scene_camera, size.width, size.height), s.pt_settings, probe_accum);
+  std::vector<Accumulator*> rb_accums;
+  for (RenderView& view : s.views) rb_accums.push_back(s.several_devices() ? s.rb_pass_accum : &view.rb_accum);
+  // A walkthrough's round has every view's PT samples: the pixels of all views (the views' PT costs
+  // per pixel taken as the first's).
+  return probe_ratio(probe_pt, std::size_t(s.scene.width) * s.scene.height * s.views.size(), *s.rb, rb_accums,
                      RatioProbeBudget{o.seconds, o.spp, o.iterations, pt_time_share});
 }
 
@@ -237,7 +307,7 @@ void choose_auto_settings(RenderState& s, RenderObserver& observer) {
   if (eye_direct_is_auto(s) && !s.eye_direct_shared) {
     for (auto& pt : s.pt) pt->set_eye_direct_shared(false);
     s.rb_settings.eye_direct_shared = false;
-    build_rb_pass(s, *s.rb_pass_accum);
+    build_rb_pass(s);
   }
   if (ratio_is_auto(s.spec)) {
     s.ratio_n2_over_n1 = combined_weights(s.weight_mode, *s.shape).ratio_n2_over_n1;

@@ -1,5 +1,6 @@
 #include "render/render_scene.h"
 
+#include "image/video.h"
 #include "scene/gltf_loader.h"
 
 #include <algorithm>
@@ -12,11 +13,25 @@ namespace {
 double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
+// What a walkthrough (several frames) cannot do yet: one line each, exit 2.
+void check_walkthrough_options(const RenderSpec& o) {
+  if (!o.video_path.empty() && !o.views.frames())
+    throw UsageError("--video encodes a walkthrough's frames: give --cameras all, --camera-path or --camera-animation");
+  if (!o.video_path.empty() && !ffmpeg_on_path())
+    throw UsageError("--video needs ffmpeg on PATH (Debian: apt-get install ffmpeg)");
+  if (!o.views.frames()) return;
+  const std::string what = "a walkthrough (--cameras all, --camera-path, --camera-animation)";
+  if (!o.reference_path.empty() || !o.contact_sheet_path.empty())
+    throw UsageError(std::string(!o.reference_path.empty() ? "--reference" : "--contact-sheet") +
+                     " compares one image: not with " + what);
+}
+
 }  // namespace
 
 RenderScene prepare_scene(const RenderSpec& o, const std::function<void(const std::string&)>& note) {
   using clock = std::chrono::steady_clock;
   RenderScene s;
+  check_walkthrough_options(o);
   if (!o.reference_path.empty()) s.reference = read_exr(o.reference_path);
 
   auto t_load = clock::now();
@@ -31,11 +46,16 @@ RenderScene prepare_scene(const RenderSpec& o, const std::function<void(const st
          " point/spot/directional light(s) are reached by light sampling only, which this run does not use "
          "(--mode pt or --mode combined with product weights, without --no-light-sampling): they stay dark");
   s.load_seconds = seconds_since(t_load);
+  try {
+    s.views = select_views(scene, o.views);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
 
   s.width = o.width;
   s.height = o.height;
-  if (s.height == 0)
-    s.height = scene.camera.aspect > 0.0f ? std::max(1, int(std::lround(s.width / scene.camera.aspect))) : s.width;
+  const float aspect = s.views.front().aspect;  // a walkthrough's frames share the first view's size
+  if (s.height == 0) s.height = aspect > 0.0f ? std::max(1, int(std::lround(s.width / aspect))) : s.width;
   if (s.reference && (s.reference->width != s.width || s.reference->height != s.height))
     throw UsageError("--reference " + o.reference_path + " is " + std::to_string(s.reference->width) + "x" +
                      std::to_string(s.reference->height) + " but the render is " + std::to_string(s.width) + "x" +

@@ -16,6 +16,7 @@ namespace bp {
 struct RenderScene {
   std::optional<ImageRGB> reference;  // --reference, sized like the render
   Scene scene;
+  std::vector<SceneCamera> views;     // spec.views resolved (scene/camera_views.h); a plain render: one
   int width = 0, height = 0;          // --height 0 resolved from the camera's aspect
   float patch_size = 0.0f;            // --patch-size, or default_patch_size
   PatchLayout patches;
@@ -23,8 +24,9 @@ struct RenderScene {
   double load_seconds = 0.0, bvh_seconds = 0.0;
 };
 
-// Throws UsageError for a reference of another size or patches that cannot be made; `note` gets the
-// scene's warnings, one line each.
+// Throws UsageError for a reference of another size, patches that cannot be made, views the scene
+// does not have, or a walkthrough with an option it cannot take; SceneError for a camera path file
+// that cannot be used; `note` gets the scene's warnings, one line each.
 RenderScene prepare_scene(const RenderSpec& spec, const std::function<void(const std::string&)>& note);
 
 }  // namespace bp

@@ -1,5 +1,7 @@
 // The input of one render (the engine's RenderJob, render/render_job.h).
 #pragma once
+#include "scene/camera_views.h"
+
 #include <array>
 #include <cstdint>
 #include <stdexcept>
@@ -55,6 +57,10 @@ struct RenderSpec {
   float exposure = 0.0f;         // PNG exposure in stops
   std::array<float, 3> environment{0.0f, 0.0f, 0.0f};  // --environment R,G,B: uniform radiance, W sr^-1 m^-2
   std::uint32_t max_depth = 65536;
+  // The views (walkthroughs, DESIGN.md §8): --camera, --cameras all, --camera-path, --camera-animation,
+  // --fps. A walkthrough writes PREFIX_0000.exr, PREFIX_0000.png, ... (render_outputs.h).
+  ViewRequest views;
+  std::string video_path;  // --video FILE.mp4: a walkthrough's PNGs encoded by ffmpeg
 };
 
 // Whether light sampling (DESIGN.md §3) is part of this render: asked for, and a mode that has it

@@ -6,6 +6,7 @@
 #include "image/rb_level.h"
 #include "passes/checkpoint.h"
 #include "passes/combined.h"
+#include "passes/each_view.h"
 #include "passes/path_tracer.h"
 #include "passes/ray_bundles.h"
 #include "passes/render_loop.h"
@@ -26,6 +27,19 @@
 
 namespace bp {
 
+// One view of the render: a plain render has one, a walkthrough one per frame (DESIGN.md §8). Its
+// accumulators are what checkpoints, its error estimate and its image files read.
+struct RenderView {
+  SceneCamera scene_camera;
+  CameraParams camera{};
+  Accumulator pt_accum, rb_accum;
+  RoundSums round_sums;
+  std::optional<BatchMeansErrorEstimate> error_estimate;
+  double estimated_rel_mse = NAN;
+  std::optional<RbLevel> rb_level;  // --rb-level corrected: RB's layer level from both estimators
+  std::string out_prefix;  // --out, or PREFIX_0000, PREFIX_0001, ... for a walkthrough's frames
+};
+
 struct RenderState {
   RenderState(const RenderSpec& s, const Ranks& r) : spec(s), ranks(r) {}
   const RenderSpec& spec;
@@ -38,15 +52,15 @@ struct RenderState {
   std::optional<RoundShape> shape;  // --mode combined's round
   std::uint32_t weight_mode = 0;
   float ratio_n2_over_n1 = 1.0f;
-  CameraParams camera{};
   bool light_sampling = false;
   float light_rate = 1.0f;
   std::string kernel_options;
   bool eye_direct_shared = false;
 
-  // The render's accumulators: what checkpoints, the error estimate and the image files read.
-  Accumulator pt_accum, rb_accum;
-  // Several ranks: this rank's sums of each batch, added into root's render accumulators after it
+  // The render's views (a deque: passes and round sums hold pointers into them). Checkpoints, several
+  // devices, several ranks and --reference take one view (a walkthrough refuses them, render_scene.cpp).
+  std::deque<RenderView> views;
+  // Several ranks: this rank's sums of each batch, added into root's view accumulators after it
   // (render/rank_pass.h).
   Accumulator pt_rank_batch, rb_rank_batch;
   // Several devices: each pass adds into an accumulator of its own, merged into the rank's after
@@ -55,7 +69,8 @@ struct RenderState {
   std::vector<Accumulator*> pt_pass_accums;  // what each PT pass adds into
   Accumulator* rb_pass_accum = nullptr;      // what the ray-bundle pass adds into
   PathTracerSettings pt_settings;
-  std::vector<std::unique_ptr<PathTracerPass>> pt;  // one per PT device (roles.pt), in that order
+  // One per PT device (roles.pt), in that order; a walkthrough (one device): one per view.
+  std::vector<std::unique_ptr<PathTracerPass>> pt;
   std::unique_ptr<RayBundlePass> rb;
   std::optional<BundleGeometry> geometry;
   RayBundleSettings rb_settings;
@@ -66,11 +81,9 @@ struct RenderState {
   double earlier_seconds = 0.0;
   std::string key;  // the checkpoint key
 
-  RoundSums round_sums;
-  std::optional<BatchMeansErrorEstimate> error_estimate;
-  double estimated_rel_mse = NAN;
-  std::optional<RbLevel> rb_level;  // --rb-level corrected: RB's layer level from both estimators
+  double estimated_rel_mse = NAN;  // the worst view's
 
+  std::unique_ptr<ProgressivePass> each_view_pt;  // a walkthrough's path tracers, one per view
   std::unique_ptr<ProgressivePass> schedule;  // the combination or the devices' lanes, when there is one
   ParallelPass* lanes = nullptr;              // the schedule, on several devices
   std::unique_ptr<RankPass> rank_schedule;    // the schedule's slices on this rank, on several ranks
@@ -82,9 +95,12 @@ struct RenderState {
   RenderDevice& rb_device() { return *devices[roles.rb]; }
   bool several_devices() const { return devices.size() > 1; }
   bool several_ranks() const { return ranks.size() > 1; }
-  // Where this rank's passes end a batch: the render's accumulators on one rank.
-  Accumulator& pt_rank_accum() { return several_ranks() ? pt_rank_batch : pt_accum; }
-  Accumulator& rb_rank_accum() { return several_ranks() ? rb_rank_batch : rb_accum; }
+  RenderView& first_view() { return views.front(); }
+  const RenderView& first_view() const { return views.front(); }
+  bool walkthrough() const { return spec.views.frames(); }
+  // Where this rank's passes end a batch: the (one) view's accumulators on one rank.
+  Accumulator& pt_rank_accum() { return several_ranks() ? pt_rank_batch : first_view().pt_accum; }
+  Accumulator& rb_rank_accum() { return several_ranks() ? rb_rank_batch : first_view().rb_accum; }
 };
 
 // printf into a std::string, for the observer's notes.

@@ -65,7 +65,7 @@ void add_ray_bundle_stats(const RenderState& s, const RenderResult& r, nlohmann:
   const RenderOutcome& outcome = s.outcome;
   const Scene& scene = s.scene.scene;
   const double iterations = double(r.rb_iterations) + o.warmup;
-  const std::size_t pixels = std::size_t(s.scene.width) * s.scene.height;
+  const std::size_t pixels = std::size_t(s.scene.width) * s.scene.height * s.views.size();  // every view's eye hits
   stats["iterations"] = r.rb_iterations;
   stats["warmup_iterations"] = o.warmup;
   stats["bins"] = s.rb->bins();
@@ -81,25 +81,27 @@ void add_ray_bundle_stats(const RenderState& s, const RenderResult& r, nlohmann:
   stats["rb_chains"] = bundle_chains(s.rb_settings);
 }
 
+// The first view's batches (every view's are the same rounds); a walkthrough's estimate is its worst frame's.
 void add_error_estimate_stats(const RenderState& s, nlohmann::json& stats) {
-  const BatchMeansErrorEstimate& e = *s.error_estimate;
+  const RenderView& view = s.first_view();
+  const BatchMeansErrorEstimate& e = *view.error_estimate;
   stats["estimated_rel_mse"] = s.estimated_rel_mse;  // NaN (null) before two batches
   nlohmann::json levels = nlohmann::json::array();
   for (int j = 0; j < e.levels(); ++j)
     levels.push_back({{"batch_rounds", e.batch_rounds(j)},
                       {"batches", e.batches(j)},
-                      {"estimated_rel_mse", e.estimated_rel_mse(s.round_sums, j)}});
+                      {"estimated_rel_mse", e.estimated_rel_mse(view.round_sums, j)}});
   stats["error_estimate"] = {{"batch_rounds", e.batch_rounds()}, {"batches", e.batches()}, {"levels", levels}};
   if (s.rb) stats["error_estimate"]["rb_batch_iterations"] = e.batch_rounds() * (s.shape ? s.shape->rb_iterations : 1);
 }
 
 // --rb-level (image/rb_level.h): per channel, the factor on RB's layer and the two levels it weighs.
 void add_rb_level_stats(const RenderState& s, nlohmann::json& stats) {
-  if (!s.rb_level) {
+  if (!s.first_view().rb_level) {
     stats["rb_level"] = {{"mode", "own"}};
     return;
   }
-  const RbLevel& l = *s.rb_level;
+  const RbLevel& l = *s.first_view().rb_level;
   const auto json3 = [](const std::array<double, 3>& v) { return nlohmann::json::array({v[0], v[1], v[2]}); };
   stats["rb_level"] = {{"mode", "corrected"},
                        {"factors", json3(l.factors())},
@@ -108,6 +110,26 @@ void add_rb_level_stats(const RenderState& s, nlohmann::json& stats) {
                        {"pt", json3(l.pt_levels())},
                        {"pt_stderr", json3(l.pt_standard_errors())},
                        {"batches", l.batches()}};
+}
+
+nlohmann::json vector_json(const glm::vec3& v) { return {v.x, v.y, v.z}; }
+
+// A walkthrough's frames: each one's files, camera and estimated relMSE (DESIGN.md §8).
+void add_frame_stats(const RenderState& s, const RenderResult& r, nlohmann::json& stats) {
+  nlohmann::json frames = nlohmann::json::array();
+  for (std::size_t k = 0; k < r.frames.size(); ++k) {
+    const SceneCamera& camera = s.views[k].scene_camera;
+    frames.push_back({{"index", k},
+                      {"exr", r.frames[k].exr_path},
+                      {"png", r.frames[k].png_path},
+                      {"estimated_rel_mse", r.frames[k].estimated_rel_mse},
+                      {"position", vector_json(camera.position)},
+                      {"forward", vector_json(camera.forward)},
+                      {"up", vector_json(camera.up)},
+                      {"yfov", camera.yfov}});
+  }
+  stats["frames"] = frames;
+  if (!r.video_path.empty()) stats["video"] = r.video_path;
 }
 
 }  // namespace
@@ -167,6 +189,7 @@ nlohmann::json render_stats(const RenderState& s, const RenderResult& r) {
     stats["reference"] = {{"path", o.reference_path}, {"layers", metrics}};
   }
   add_error_estimate_stats(s, stats);
+  if (s.walkthrough()) add_frame_stats(s, r, stats);
   if (o.target_error > 0.0) {
     stats["target_error"] = o.target_error;
     stats["target_reached"] = outcome.target_reached;

@@ -1,6 +1,7 @@
 // glTF 2.0 -> Scene. tinygltf parses; every index and byte range is checked here, because
 // tinygltf 2.7 trusts them. Every failure is one SceneError line "<path>: <object> <problem>".
 #include "scene/gltf_loader.h"
+#include "scene/camera_views.h"
 
 #include "scene/textures.h"
 #include "scene/tinygltf.h"
@@ -876,7 +877,7 @@ class Loader {
         on_stack[n] = visited[n] = 1;
         const glm::dmat4 world = parent * local_transform(n);
         if (!all_finite(world)) fail("node " + std::to_string(n) + " has a non-finite world transform");
-        visit(n, world);
+        visit(n, parent, world);
         stack.push_back(Frame{n, world, 0});
       };
       enter(root, glm::dmat4(1.0));
@@ -896,14 +897,14 @@ class Loader {
     }
   }
 
-  void visit(int n, const glm::dmat4& world) {
+  void visit(int n, const glm::dmat4& parent, const glm::dmat4& world) {
     const auto& node = model_.nodes[n];
     const std::string obj = "node " + std::to_string(n) + quoted(node.name);
     if (node.camera != -1) {
       if (node.camera < 0 || std::size_t(node.camera) >= model_.cameras.size())
         fail(obj + " refers to camera " + std::to_string(node.camera) + ", but the file has " +
              std::to_string(model_.cameras.size()) + " cameras");
-      take_camera(node.camera, n, world);
+      take_camera(node.camera, n, parent, world);
     }
     if (const auto* light = extension(node.extensions, "KHR_lights_punctual", "light")) {
       if (!light->IsInt()) fail(obj + " KHR_lights_punctual.light is not an index");
@@ -960,7 +961,8 @@ class Loader {
     }
   }
 
-  void take_camera(int c, int n, const glm::dmat4& world) {
+  // Every perspective camera node, in traversal order; the first is the plain render's view.
+  void take_camera(int c, int n, const glm::dmat4& parent, const glm::dmat4& world) {
     const auto& cam = model_.cameras[c];
     const std::string obj = "camera " + std::to_string(c) + quoted(cam.name);
     if (cam.type == "orthographic") {
@@ -971,21 +973,74 @@ class Loader {
     const double yfov = cam.perspective.yfov, aspect = cam.perspective.aspectRatio;
     if (!(yfov > 0.0 && yfov < M_PI)) fail(obj + " has yfov " + std::to_string(yfov) + " outside (0, pi)");
     if (!(aspect >= 0.0 && std::isfinite(float(aspect)))) fail(obj + " has aspectRatio " + std::to_string(aspect));
-    if (camera_found_) return;  // the first camera in the traversal is the view
-    const glm::dvec3 position(world * glm::dvec4(0, 0, 0, 1));
-    glm::dvec3 forward = glm::dmat3(world) * glm::dvec3(0, 0, -1);
-    glm::dvec3 up = glm::dmat3(world) * glm::dvec3(0, 1, 0);
-    forward = glm::normalize(forward);
-    up = glm::normalize(up - glm::dot(up, forward) * forward);
-    if (!std::isfinite(forward.x + forward.y + forward.z + up.x + up.y + up.z))
-      fail("node " + std::to_string(n) + " gives " + obj + " a degenerate orientation");
-    scene_.camera.position = glm::vec3(position);
-    scene_.camera.forward = glm::vec3(forward);
-    scene_.camera.up = glm::vec3(up);
-    scene_.camera.yfov = float(yfov);
-    scene_.camera.aspect = float(aspect);
-    scene_.camera.from_file = true;
-    camera_found_ = true;
+    const std::optional<SceneCamera> view = camera_from_world(world, yfov, aspect);
+    if (!view) fail("node " + std::to_string(n) + " gives " + obj + " a degenerate orientation");
+    SceneCameraNode node{n, model_.nodes[n].name, cam.name, *view, std::nullopt, ""};
+    // An animation that cannot be played fails only the render that asks for it (--camera-animation).
+    try {
+      node.animation = camera_animation(n, parent);
+    } catch (const SceneError& e) {
+      node.animation_error = e.what();
+    }
+    scene_.camera_nodes.push_back(node);
+    if (scene_.camera_nodes.size() == 1) scene_.camera = *view;
+  }
+
+  // The first animation with translation or rotation channels on node n (scene/scene_cameras.h).
+  std::optional<CameraAnimation> camera_animation(int n, const glm::dmat4& parent) const {
+    const auto& node = model_.nodes[n];
+    for (std::size_t a = 0; a < model_.animations.size(); ++a) {
+      const auto& animation = model_.animations[a];
+      CameraAnimation out;
+      out.name = "animation " + std::to_string(a) + quoted(animation.name);
+      for (std::size_t ch = 0; ch < animation.channels.size(); ++ch) {
+        const auto& channel = animation.channels[ch];
+        if (channel.target_node != n || (channel.target_path != "translation" && channel.target_path != "rotation"))
+          continue;
+        const std::string obj = out.name + " channel " + std::to_string(ch);
+        if (!node.matrix.empty()) fail(obj + " animates node " + std::to_string(n) + ", which has a matrix (glTF needs TRS)");
+        (channel.target_path == "rotation" ? out.rotation_track : out.translation_track) =
+            camera_track(animation, channel.sampler, obj, channel.target_path == "rotation");
+      }
+      if (!out.translation_track && !out.rotation_track) continue;
+      out.parent_world = parent;
+      if (!node.translation.empty()) out.translation = glm::dvec3(node.translation[0], node.translation[1], node.translation[2]);
+      if (!node.rotation.empty())
+        out.rotation = glm::normalize(glm::dquat(node.rotation[3], node.rotation[0], node.rotation[1], node.rotation[2]));
+      if (!node.scale.empty()) out.scale = glm::dvec3(node.scale[0], node.scale[1], node.scale[2]);
+      return out;
+    }
+    return std::nullopt;
+  }
+
+  CameraTrack camera_track(const tinygltf::Animation& animation, int s, const std::string& obj, bool rotation) const {
+    if (s < 0 || std::size_t(s) >= animation.samplers.size())
+      fail(obj + " refers to sampler " + std::to_string(s) + ", but the animation has " +
+           std::to_string(animation.samplers.size()));
+    const auto& sampler = animation.samplers[s];
+    if (sampler.interpolation != "LINEAR" && sampler.interpolation != "STEP")
+      fail(obj + " has interpolation " + sampler.interpolation + " (only LINEAR and STEP are read)");
+    CameraTrack track;
+    track.step = sampler.interpolation == "STEP";
+    track.times = read_accessor(sampler.input, obj + " input", TINYGLTF_TYPE_SCALAR, {TINYGLTF_COMPONENT_TYPE_FLOAT});
+    const int components = rotation ? 4 : 3;
+    const std::vector<double> values = read_accessor(sampler.output, obj + " output",
+                                                     rotation ? TINYGLTF_TYPE_VEC4 : TINYGLTF_TYPE_VEC3,
+                                                     {TINYGLTF_COMPONENT_TYPE_FLOAT});
+    if (track.times.empty()) fail(obj + " has no keyframes");
+    if (values.size() != track.times.size() * components)
+      fail(obj + " has " + std::to_string(track.times.size()) + " keyframe times but " +
+           std::to_string(values.size() / components) + " values");
+    for (std::size_t k = 0; k < track.times.size(); ++k) {
+      if (!std::isfinite(track.times[k]) || (k > 0 && !(track.times[k] > track.times[k - 1])))
+        fail(obj + " keyframe times are not finite and strictly increasing at keyframe " + std::to_string(k));
+      glm::dvec4 v(0.0);
+      for (int c = 0; c < components; ++c) v[c] = values[k * components + c];
+      if (!std::isfinite(v.x + v.y + v.z + v.w) || (rotation && !(glm::length(v) > 0.0)))
+        fail(obj + " keyframe " + std::to_string(k) + " is not finite" + (rotation ? " or not a rotation" : ""));
+      track.values.push_back(rotation ? v / glm::length(v) : v);
+    }
+    return track;
   }
 
   // KHR_lights_punctual: position from the node, direction its -z; intensity in candela (lm/sr) or,
@@ -1059,7 +1114,8 @@ class Loader {
     if (scene_.triangles.empty()) fail("scene has no triangles");
     for (const auto& t : scene_.triangles)
       for (const auto& p : t.p) scene_.bounds.grow(p);
-    if (!camera_found_) {
+    for (const auto& node : model_.nodes) scene_.node_names.push_back(node.name);
+    if (scene_.camera_nodes.empty()) {
       // Default view (gltf_loader.h): from +z, the bounding sphere fits the vertical field of view.
       SceneCamera cam;
       const float radius = std::max(0.5f * glm::length(scene_.bounds.extent()), 1e-6f);
@@ -1085,7 +1141,6 @@ class Loader {
   std::map<int, std::size_t> skipped_modes_;
   std::size_t primitives_without_position_ = 0, ragged_triangle_lists_ = 0, degenerate_ = 0, zero_normals_ = 0,
               missing_texcoords_ = 0, cut_away_ = 0;
-  bool camera_found_ = false;
 };
 
 }  // namespace

@@ -26,6 +26,10 @@ class SceneError : public std::runtime_error {
 //   "no camera in file; using a default view"): from the +z side of the bounds centre, looking
 //   down -z with up +y, at the distance r / sin(yfov / 2) where the bounding sphere (radius r, half
 //   the bounds diagonal) just fits the default yfov (SceneCamera's, 0.6911 rad).
+// * camera_nodes: every perspective camera node in the same order, each with the first animation
+//   that has translation or rotation channels on it (LINEAR or STEP). One that cannot be played
+//   (CUBICSPLINE, bad keyframes) leaves its message in animation_error: it fails only a render
+//   that asks for that animation.
 // * warnings also say when no triangle emits ("no emitter: the image will be black").
 // * refused: any index or byte range out of bounds, node cycles, non-finite positions or
 //   transforms, non-float positions, sparse indices out of range or not increasing, buffer URIs

@@ -1,6 +1,7 @@
 // The scene as the renderer sees it, independent of file format and of OpenCL.
 #pragma once
 #include "kernels/shared/texture.h"
+#include "scene/scene_cameras.h"
 #include <glm/glm.hpp>
 #include <cstdint>
 #include <limits>
@@ -48,15 +49,6 @@ struct ScenePunctualLight {
   float outer_cone = 0.7853982f;           // spot: radians, no light beyond
 };
 
-struct SceneCamera {
-  glm::vec3 position{0.0f};
-  glm::vec3 forward{0.0f, 0.0f, -1.0f};  // unit; the view direction
-  glm::vec3 up{0.0f, 1.0f, 0.0f};        // unit, orthogonal to forward
-  float yfov = 0.6911f;                  // vertical field of view, radians
-  float aspect = 0.0f;                   // width/height from the file; 0 = not given
-  bool from_file = false;                // false: a default view made by the loader
-};
-
 struct Bounds {
   glm::vec3 lo{std::numeric_limits<float>::max()};
   glm::vec3 hi{-std::numeric_limits<float>::max()};
@@ -76,7 +68,9 @@ struct Scene {
   std::vector<TextureView> texture_views;
   std::uint32_t uv_slots = 0;            // texcoord sets per triangle that textures read (<= BP_MAX_UV_SLOTS)
   glm::vec3 environment{0.0f};           // uniform radiance of every direction that leaves the scene, W sr^-1 m^-2
-  SceneCamera camera;
+  SceneCamera camera;                    // the view of a plain render: the first camera node's, else a default
+  std::vector<SceneCameraNode> camera_nodes;  // every perspective camera node, in traversal order
+  std::vector<std::string> node_names;   // every node of the file, by index ("" if unnamed)
   Bounds bounds;
   std::vector<std::string> warnings;     // things the loader accepted but a user should know
   std::size_t emissive_triangles() const;

@@ -24,6 +24,13 @@ CliResult run_shell(const std::string& command_line) {
   return r;
 }
 
+CliResult interrupt_once_started(const std::string& render_command, const std::string& dir) {
+  return run_shell(render_command + " 2>" + dir + "/log & pid=$!; (sleep 120; kill -KILL $pid) >/dev/null 2>&1 & " +
+                   "watchdog=$!; for i in $(seq 600); do grep -q rendering " + dir +
+                   "/log && break; sleep 0.1; done; sleep 1; kill -INT $pid; wait $pid; echo \"exit=$?\"; " +
+                   "kill $watchdog 2>/dev/null; cat " + dir + "/log");
+}
+
 std::string fresh_dir(const std::string& name) {
   auto dir = std::filesystem::path(BP_BUILD_DIR) / "test-out" / name;
   std::filesystem::remove_all(dir);

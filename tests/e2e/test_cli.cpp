@@ -377,13 +377,7 @@ TEST(Cli, SigintWritesTheSamplesDoneAndExits130) {
   std::string render = "'" + std::string(BP_BINARY) + "' render " + kScenes +
                        "cornell-box.gltf --width 64 --height 64 --spp 100000000 --out " + dir + "/i --stats " + dir +
                        "/s.json";
-  // Interrupt once the render loop has started (its first line), with a hard bound on the child.
-  // (Not through `timeout`: it forwards a signal to its child and to its process group, so the
-  // renderer could get two SIGINTs, and the second one means "abort now".)
-  CliResult r = run_shell(render + " 2>" + dir + "/log & pid=$!; (sleep 120; kill -KILL $pid) >/dev/null 2>&1 & " +
-                          "watchdog=$!; for i in $(seq 600); do grep -q rendering " + dir +
-                          "/log && break; sleep 0.1; done; sleep 1; kill -INT $pid; wait $pid; echo \"exit=$?\"; " +
-                          "kill $watchdog 2>/dev/null; cat " + dir + "/log");
+  CliResult r = interrupt_once_started(render, dir);
   EXPECT_NE(r.output.find("exit=130"), std::string::npos) << r.output;
   nlohmann::json stats = nlohmann::json::parse(std::ifstream(dir + "/s.json"));
   EXPECT_TRUE(stats["interrupted"].get<bool>());

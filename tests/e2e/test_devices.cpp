@@ -151,11 +151,7 @@ TEST(Devices, SigintOnTwoDevicesWritesTheRoundsDoneAndExits130) {
   const std::string render = kEqualDevices + " '" + std::string(BP_BINARY) + "' render " + kCornell +
                              "--width 32 --height 32 --mode combined --ratio 1 --spp 100000000 --device 0,1 --out " +
                              dir + "/i --stats " + dir + "/s.json";
-  // As Cli.SigintWritesTheSamplesDoneAndExits130: once the render loop has started, with a hard bound.
-  CliResult r = run_shell(render + " 2>" + dir + "/log & pid=$!; (sleep 120; kill -KILL $pid) >/dev/null 2>&1 & " +
-                          "watchdog=$!; for i in $(seq 600); do grep -q rendering " + dir +
-                          "/log && break; sleep 0.1; done; sleep 1; kill -INT $pid; wait $pid; echo \"exit=$?\"; " +
-                          "kill $watchdog 2>/dev/null; cat " + dir + "/log");
+  CliResult r = interrupt_once_started(render, dir);
   EXPECT_NE(r.output.find("exit=130"), std::string::npos) << r.output;
   const nlohmann::json stats = read_stats(dir + "/s.json");
   EXPECT_TRUE(stats["interrupted"].get<bool>());
