@@ -177,6 +177,18 @@ TEST(Ranks, SigintOnMpirunWritesTheRoundsDone) {
   EXPECT_GT(sum, 0.0);
 }
 
+// A walkthrough's views are one process's (its views share one RB chain): refused on two ranks with
+// exit 2 and one line naming mpirun, nothing written.
+TEST(Ranks, WalkthroughOnTwoRanksIsRefused) {
+  const std::string dir = fresh_dir("ranks_walkthrough");
+  const CliResult r = run_on_two_ranks("render " + std::string(BP_SOURCE_DIR) +
+                                       "/tests/data/gltf/good/cornell-walk.gltf --cameras all --width 16 --height 16 "
+                                       "--spp 1 --out " + dir + "/w");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("mpirun"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir + "/w_0000.exr"));
+}
+
 }  // namespace
 }  // namespace bp::test
 #endif  // BP_MPIRUN
