@@ -1,5 +1,4 @@
-// The level of RB's share of the combined image, from both estimators (--rb-level, README "The RB
-// level"). RB's weighted layer is smooth but its level -- the layer's mean over the pixels, per
+// The level of RB's share of the combined image, from both estimators (--rb-level). RB's weighted layer is smooth but its level -- the layer's mean over the pixels, per
 // channel -- is noisy: every patch of an iteration moves along the same random direction, so the
 // error of one iteration is the same sign over the whole image and does not average out over pixels
 // (the house at 160 iterations: the image mean spreads by ±2 % between seeds). PT estimates the same
@@ -11,9 +10,10 @@
 //
 // with M_RB RB's level, M_PTc PT's level of the same share, and each variance of the mean from batch
 // means over the render loop's batches (PT's rounds are independent; RB's batches of the loop's
-// length are correlated, so Var_RB is if anything low and the mean leans to RB's own level: never
-// worse than the plain sum by much). A ratio estimator: consistent, biased only to second order in
-// the levels' relative noise (4e-4 at 2 % noise), and it takes RB's level discretisation with it.
+// length are correlated, so Var_RB is if anything low and the mean leans to RB's own level). A
+// ratio estimator: consistent, biased only to second order in the levels' relative noise (4e-4 at
+// 2 % noise), and it takes RB's level discretisation with it. Measured: README, "The RB level from
+// both estimators".
 #pragma once
 #include "image/accumulator.h"
 #include "image/error_estimate.h"
