@@ -87,6 +87,7 @@ options (defaults in brackets):
                       (pt: unbiased per pixel, noisy at few samples), or auto: shared when
                       the render gives each pixel fewer than 128 PT samples (from --spp,
                       --iterations and --ratio, or for --time from the ratio probe's costs;
+                      under --ratio auto, at the c it picks where the light is PT's alone;
                       --resume reuses the saved choice)                       [auto]
   --ratio C           combined: PT samples per pixel per RB iteration, or auto   [auto]
                       0: ray bundles alone (w_RB = 1; count with --iterations or --time)
@@ -95,7 +96,7 @@ options (defaults in brackets):
                       1.5 s, and at least one RB iteration; not counted in --time, its
                       samples are discarded) measures PT's cost per sample (on the same view
                       at about 128x128 pixels, scaled) and RB's per iteration, and picks c,
-                      a power of 2, so that PT gets about 50 % of the time (65 % where
+                      a power of 2, so that PT gets about 12 % of the time (65 % where
                       the eye vertex's direct light is PT's alone: --eye-direct pt, or auto
                       resolved to pt); --spp or --iterations then fixes the other count
                       from that c. The chosen c is

@@ -36,11 +36,14 @@ CombinedWeights combined_weights(std::uint32_t mode, const RoundShape& shape);
 // A / f + B / (1 - f) (A, B: the PT and RB parts' variance at equal time) is f = √A / (√A + √B):
 // measured on cornell-glossy at 128x128 (README, issue #12; equal-work runs, 4 seeds) A : B ≈ 3.2 : 1,
 // so f ≈ 0.64, and at 20 s c = 1/2 (0.65) gave 0.00035 / 0.00037 against 0.00037 / 0.00041 at c = 1/4
-// (0.5). Where it is shared (few PT samples: the Lambert house at 640x360, 30 s) 0.65 picked 1/2 too
-// and cost the house (0.0028 / 0.0050, one image mean 2.3 % off, against 0.0023 / 0.0038 at 1/4):
-// RB's share there is large. bench/ratio.sh prints, per scene and resolution, the share that would
-// have picked the best fixed ratio. `render --help` (cli/options.cpp) quotes these constants.
-constexpr double kAutoRatioPtTimeShareEyeShared = 0.5;
+// (0.5). Where it is shared (few PT samples per pixel: real resolutions, short budgets) RB carries
+// most of the image, and since --rb-level corrected PT's samples are needed mostly for RB's level,
+// which a few samples per pixel of a whole image estimate well. The share at which bench/ratio.sh's
+// best fixed ratio would have been picked, at 640x360 (bench/results/ratio-*-640x360*.md): 0.06 on
+// the Lambert house, 0.19 on cornell-box, 0.15 on cornell-glossy; 0.12 is their geometric mean, and
+// the efficiency curves are flat enough near their best (within 0.85x over a factor 4 in c) for one
+// share to serve all three. `render --help` (cli/options.cpp) quotes these constants.
+constexpr double kAutoRatioPtTimeShareEyeShared = 0.12;
 constexpr double kAutoRatioPtTimeShareEyePt = 0.65;
 // The share for a render whose eye vertex's direct light is PT's alone (or not).
 double auto_ratio_pt_time_share(bool eye_direct_pt_alone);

@@ -273,10 +273,14 @@ static void decide_auto_settings(RenderState& s, RenderObserver& observer) {
       }
       // N ranks render N times one rank's rounds in a --time (each rank with a machine of its own).
       const double seconds = o.seconds * double(s.ranks.size());
-      const double spp = expected_pt_spp(*s.shape, o.spp, o.iterations, seconds, t_pt, t_rb);
+      // Under --ratio auto, the samples PT would get with the eye vertex's direct light its own: at
+      // that choice's share, not at the smaller shared one (which would tip every short render to shared).
+      const bool at_pt_share = ratio_is_auto(o) && !s.several_devices();
+      const RoundShape shape = at_pt_share ? auto_ratio_shape(t_pt, t_rb, auto_ratio_pt_time_share(true)) : *s.shape;
+      const double spp = expected_pt_spp(shape, o.spp, o.iterations, seconds, t_pt, t_rb);
       s.eye_direct_shared = spp < kEyeDirectSharedBelowSpp;
-      observer.note(printf_text("--eye-direct auto: %s (about %.0f PT samples per pixel)",
-                                s.eye_direct_shared ? "shared" : "pt", spp));
+      observer.note(printf_text("--eye-direct auto: %s (about %.0f PT samples per pixel%s)",
+                                s.eye_direct_shared ? "shared" : "pt", spp, at_pt_share ? " at pt's ratio" : ""));
     }
     if (!s.eye_direct_shared && s.probe) {  // PT's alone: the ratio for that share (kAutoRatioPtTimeShareEyePt)
       s.probe->pt_time_share = auto_ratio_pt_time_share(true);

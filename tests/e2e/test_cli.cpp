@@ -261,6 +261,9 @@ TEST(Cli, EyeDirectAutoFollowsThePtSampleBudget) {
   EXPECT_EQ(eye_direct("--ratio 4 --iterations 16"), "shared");  // 64 spp
   EXPECT_EQ(eye_direct("--ratio 4 --spp 256 --eye-direct shared"), "shared");
   EXPECT_EQ(eye_direct("--ratio 4 --spp 8 --eye-direct pt"), "pt");
+  // --ratio auto (the default) decides at the ratio it picks for pt, whatever the shared ratio would be.
+  EXPECT_EQ(eye_direct("--spp 8"), "shared");
+  EXPECT_EQ(eye_direct("--spp 256"), "pt");
 }
 
 TEST(Cli, UnknownDeviceIsAnErrorListingDevices) {
