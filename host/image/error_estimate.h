@@ -53,8 +53,9 @@ class BatchMeansErrorEstimate {
   // variance s² = Σ n_k (m_k − m)² / (K − 1) (n_k rounds in batch k, unbiased for unequal batches),
   // over the rounds, s² / N. Empty with fewer than two batches.
   std::vector<double> variance_of_mean(int level = 0) const;
-  // DESIGN.md §7's relMSE with that variance in place of (I − R)² and the image I in place of R:
-  // mean(Var / (I² + 0.01)). NaN with fewer than two batches.
+  // DESIGN.md §7's relMSE with that variance in place of (I − R)² and, in place of R, the smaller of
+  // the pixel and the mean of its 8 neighbours in the image (error_estimate.cpp says why not the
+  // pixel alone): mean(Var / (R̂² + 0.01)). NaN with fewer than two batches.
   double estimated_rel_mse(const ImageRGB& image, int level = 0) const;
   // The same with the image of the sums given to the last add(), I = sums / rounds().
   double estimated_rel_mse(const RoundSums& sums, int level = 0) const;
