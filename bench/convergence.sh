@@ -8,7 +8,8 @@
 #
 # Usage: bench/convergence.sh [--quick] [--out DIR] [--cap SECONDS] [--resolutions LIST] [--scenes "A B"]
 #                             [--modes "LABEL ..."] [--mode-table FILE] [--repeats N] [--no-plots]
-#                             [--references-only]
+#                             [--references-only] [--budgets "S ..."]
+#   --budgets "S ..."  these wall-time budgets instead of 1, 2, 4, ... --cap
 #   --resolutions LIST image sizes, WxH separated by commas   [128x128,640x360,1280x720]
 #                      (--size N is --resolutions NxN); references: the 128x128 spp of SCENES
 #                      below there, larger sizes per bench_reference_spp (bench/lib.sh)
@@ -38,6 +39,7 @@ MODES=(
 )
 
 quick=0; repeats=1; out=""; cap=16; resolutions=""; plots=1; refs_only=0; only_scenes=""; only_modes=""; ref_spp_override=""
+budgets_override=""
 while [ $# -gt 0 ]; do
   case $1 in
     --quick) quick=1 ;;
@@ -48,6 +50,7 @@ while [ $# -gt 0 ]; do
     --scenes) only_scenes=$2; shift ;;
     --modes) only_modes=$2; shift ;;
     --ref-spp) ref_spp_override=$2; shift ;;
+    --budgets) budgets_override=$2; shift ;;
     --repeats) repeats=$2; shift ;;
     --mode-table) while IFS= read -r line; do
                     case $line in ''|'#'*) ;; *) MODES+=("$line") ;; esac
@@ -73,7 +76,7 @@ out=${out:-$bench_root/bench/results}
 mkdir -p "$out"
 [ $plots -eq 0 ] || bench_require_gnuplot convergence.sh
 
-mapfile -t budgets < <(bench_budgets "$cap")
+if [ -n "$budgets_override" ]; then read -r -a budgets <<< "$budgets_override"; else mapfile -t budgets < <(bench_budgets "$cap"); fi
 mapfile -t sizes < <(bench_resolutions "${resolutions:-128x128,640x360,1280x720}")
 [ ${#sizes[@]} -gt 0 ] || { echo "convergence.sh: no resolution given" >&2; exit 2; }
 

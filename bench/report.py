@@ -579,7 +579,7 @@ def cmd_modes(args):
           "auto / best fixed |",
           "|---|---|---|---|---|---|---|---|---|"]
     keys = list(dict.fromkeys((r["scene"], size_of(r)) for r in conv))
-    verdicts = []
+    verdicts, within, autos = [], [], []
     for scene, size in keys:
         c_rows = [r for r in conv if r["scene"] == scene and size_of(r) == size]
         r_rows = [r for r in ratio if r["scene"] == scene and size_of(r) == size]
@@ -600,12 +600,17 @@ def cmd_modes(args):
         a = max(eff["auto"]) if "auto" in eff else None
         auto_q = a / max(fixed.values()) if a and fixed else None
         verdicts.append(q is not None and q <= 1.0)
+        within.append(q is not None and q <= 1.25)
+        if auto_q is not None:
+            autos.append(auto_q >= 0.8)
         md.append(f"| {scene} | {size} | {budget:g} s | {fmt(pt, '.3g')} | {fmt(rb, '.3g')} | {fmt(comb, '.3g')} | "
                   f"{fmt(q, '.2f')}{'' if q is None or q <= 1.0 else ' **(worse)**'} | "
                   f"{', '.join(ratio_text(c) for c in chosen) or '–'} | {fmt(auto_q, '.2f')} |")
     md.append("")
     md.append(f"The combination is at least as good as the better estimator in {sum(verdicts)} of {len(verdicts)} "
-              "scene-resolution pairs.")
+              f"scene-resolution pairs, and within 0.8x of its efficiency (combined / better ≤ 1.25, issue #12) in "
+              f"{sum(w for w in within)} of {len(within)}; auto within 1.25x of the best fixed ratio in "
+              f"{sum(a for a in autos)} of {len(autos)}.")
     os.makedirs(out, exist_ok=True)
     with open(os.path.join(out, "modes.md"), "w") as f:
         f.write("\n".join(md) + "\n")
