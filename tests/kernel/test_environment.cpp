@@ -324,18 +324,18 @@ TEST(Environment, CornerUnderAGradedSkyInTheCombinationAgreesWithThePathTracer) 
   };
   for (bool shared : {false, true}) {
     // per run: the combination's image mean minus an independent path-traced one's
-    const int runs = 6;
+    const int runs = 8;
     std::vector<std::array<double, 3>> differences;
     double level = 0.0;
     for (int k = 0; k < runs; ++k) {
       CombinedSettings cs;
-      cs.rounds = 64;
+      cs.rounds = 192;
       cs.light_sampling = true;
       cs.light_rate = 0.5f;
       cs.eye_direct_shared = shared;
       cs.seed = 3 + 19 * std::uint32_t(k);
       const std::array<double, 3> combined = image_mean(render_combined(scene, kSize, kSize, cs).combined);
-      const std::array<double, 3> pt = image_mean(render_pt(scene, kSize, kSize, 64, 101 + std::uint32_t(k)).image);
+      const std::array<double, 3> pt = image_mean(render_pt(scene, kSize, kSize, 192, 101 + std::uint32_t(k)).image);
       differences.push_back({combined[0] - pt[0], combined[1] - pt[1], combined[2] - pt[2]});
       level += pt[1] / runs;
     }
