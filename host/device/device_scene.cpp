@@ -114,7 +114,7 @@ DeviceScene::DeviceScene(const DeviceContext& device, const Scene& scene, const 
   const std::vector<float> cdf_in = at_least_one(light_list.cdf);
   std::vector<float> normals_in = pack_shading_normals(scene);
   has_shading_normals = normals_in.empty() ? 0u : 1u;
-  const EnvironmentImage environment_map = scene.environment_map();
+  const EnvironmentImage& environment_map = *scene.environment_map();
   const std::vector<float> environment_in = at_least_one(pack_environment(environment_map));
   environment_width = std::uint32_t(environment_map.width);
   environment_height = std::uint32_t(environment_map.height);

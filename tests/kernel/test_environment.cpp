@@ -32,7 +32,7 @@ Scene cube_under_environment(bool as_map = false) {
   scene.environment = kEnvironment;
   if (as_map) {
     scene.environment = glm::vec3(0.0f);
-    scene.environment_image = constant_environment(4, 2, &kEnvironment[0]);
+    scene.environment_image = std::make_shared<const EnvironmentImage>(constant_environment(4, 2, &kEnvironment[0]));
   }
   scene.camera.position = glm::vec3(1.6f, 1.3f, 2.2f);
   scene.camera.forward = glm::normalize(-scene.camera.position);
@@ -220,7 +220,7 @@ Scene plane_under_graded_sky() {
   scene.triangles.push_back({{a, c, d}, 0});
   for (const SceneTriangle& t : scene.triangles)
     for (const glm::vec3& p : t.p) scene.bounds.grow(p);
-  scene.environment_image = graded_sky();
+  scene.environment_image = std::make_shared<const EnvironmentImage>(graded_sky());
   scene.camera.position = glm::vec3(0.0f, 1.0f, 0.0f);
   scene.camera.forward = glm::vec3(0.0f, -1.0f, 0.0f);
   scene.camera.up = glm::vec3(0.0f, 0.0f, -1.0f);
@@ -310,7 +310,7 @@ TEST(Environment, CornerUnderAGradedSkyInTheCombinationAgreesWithThePathTracer) 
   scene.triangles = {{{f0, f1, f2}, 0}, {{f0, f2, f3}, 0}, {{w0, w1, w2}, 0}, {{w0, w2, w3}, 0}};  // up, and +Z
   for (const SceneTriangle& t : scene.triangles)
     for (const glm::vec3& p : t.p) scene.bounds.grow(p);
-  scene.environment_image = graded_sky();
+  scene.environment_image = std::make_shared<const EnvironmentImage>(graded_sky());
   scene.camera.position = glm::vec3(0.3f, 0.9f, 1.4f);
   scene.camera.forward = glm::normalize(glm::vec3(0.0f, 0.3f, -0.5f) - scene.camera.position);
   scene.camera.up = glm::normalize(glm::cross(glm::cross(scene.camera.forward, glm::vec3(0, 1, 0)), scene.camera.forward));

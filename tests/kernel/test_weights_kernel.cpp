@@ -188,16 +188,17 @@ TEST(CombinationWeights, FourTechniquesOfTheLastSegmentSumToOne) {
 // from 0 (black texels, the poles) to huge (near the poles of a bright row).
 LightConnections make_environment_connections(std::uint32_t count, std::uint32_t seed) {
   Scene scene;
-  scene.environment_image = graded_sky();
+  EnvironmentImage sky = graded_sky();
   for (int column = 0; column < 8; ++column)  // the top row: bright, with one black texel
-    for (int c = 0; c < 3; ++c) scene.environment_image.rgb[3 * column + c] = column == 2 ? 0.0f : 50.0f;
+    for (int c = 0; c < 3; ++c) sky.rgb[3 * column + c] = column == 2 ? 0.0f : 50.0f;
+  scene.environment_image = std::make_shared<const EnvironmentImage>(sky);
   scene.bounds.grow(glm::vec3(-1.0f));
   scene.bounds.grow(glm::vec3(1.0f));
   ScenePunctualLight sun;
   sun.kind = ScenePunctualLight::Kind::directional;
   scene.lights = {sun};
   const LightList list = build_light_list(scene);
-  const std::vector<float> packed = pack_environment(scene.environment_image);
+  const std::vector<float> packed = pack_environment(sky);
   LightSet set = light_set(list.lights.data(), list.cdf.data(), nullptr, nullptr, std::uint32_t(list.lights.size()),
                            BP_LIGHT_SELECTION_POWER);
   set.environment = environment_map(packed.data(), 8u, 4u);

@@ -19,7 +19,7 @@ struct EnvironmentScene {
   std::vector<float> packed;
   LightSet set;
   explicit EnvironmentScene(bool with_sun) {
-    scene.environment_image = graded_sky();
+    scene.environment_image = std::make_shared<const EnvironmentImage>(graded_sky());
     scene.bounds.grow(glm::vec3(-1.0f));
     scene.bounds.grow(glm::vec3(1.0f));
     if (with_sun) {
@@ -30,7 +30,7 @@ struct EnvironmentScene {
       scene.lights = {sun};
     }
     list = build_light_list(scene);
-    packed = pack_environment(scene.environment_image);
+    packed = pack_environment(*scene.environment_image);
     set = light_set(list.lights.data(), list.cdf.data(), nullptr, nullptr, std::uint32_t(list.lights.size()),
                     BP_LIGHT_SELECTION_POWER);
     set.environment = environment_map(packed.data(), 8u, 4u);
@@ -44,7 +44,7 @@ TEST(EnvironmentLight, IsTheLastLightChosenByTheRadianceEnteringTheScene) {
   EXPECT_EQ(s.list.lights[1].type, BP_LIGHT_ENVIRONMENT);
   EXPECT_TRUE(light_is_infinite(s.list.lights[1].type));
   // pi R^2 times the integral of the mean radiance, against the sun's E pi R^2
-  const double radius = std::sqrt(3.0), env = M_PI * radius * radius * environment_integral(s.scene.environment_image);
+  const double radius = std::sqrt(3.0), env = M_PI * radius * radius * environment_integral(*s.scene.environment_image);
   const double sun = M_PI * radius * radius * 2.0;
   EXPECT_NEAR(s.list.lights[1].select_probability, env / (env + sun), 1e-5);
   bp_u32 first = 0u;
@@ -95,7 +95,7 @@ TEST(EnvironmentLight, LightSamplingEstimatesTheIrradianceOfAnUpwardPlane) {
   }
   for (int c = 0; c < 3; ++c) {
     const double mean = sum[c] / n, se = std::sqrt((sum2[c] / n - mean * mean) / n);
-    const double expected = upward_irradiance(s.scene.environment_image, c);
+    const double expected = upward_irradiance(*s.scene.environment_image, c);
     EXPECT_LT(se, 0.01 * expected);
     EXPECT_NEAR(mean, expected, 5.0 * se) << "channel " << c;
   }
