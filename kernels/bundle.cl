@@ -107,7 +107,8 @@ __kernel void rb_outgoing(__global const BundleElement* elements, __global const
                           const uint light_selection, __global const Material* patch_materials, const uint uv_slots,
                           __global const TextureView* texture_views, __global const uint* texels,
                           __global const MaterialTextures* material_textures, __global const float* texcoords,
-                          __global const TriangleShading* shading, const uint alpha_masks) {
+                          __global const TriangleShading* shading, const uint alpha_masks,
+                          __global const float* environment) {
   uint p = (uint)get_global_id(0);
   if (p >= patches) return;
   uint pe = patch_element[p];
@@ -127,6 +128,7 @@ __kernel void rb_outgoing(__global const BundleElement* elements, __global const
     LightSet light_set_ = light_set(lights, light_cdf, light_tree, light_receivers, it.light_count, light_selection);
     const TextureSet textures = {texture_views, texels, material_textures, texcoords, uv_slots};
     light_set_.textures = textures;  // emissive textures at the sampled point
+    light_set_.environment = environment_map(environment, it.environment_width, it.environment_height);
     // a black patch reflects no light sample; the others take one at the rate it.light_rate
     if (bsdf.continuation > 0.0f && (it.light_rate >= 1.0f || rng_uniform(&rng) < it.light_rate))
       ls = rb_light_sample(&elements[pe & ~BP_BACK_SIDE], n, nodes, triangles, &light_set_, p, materials, &it, &rng,
@@ -296,29 +298,33 @@ static float4 rb_direct_received(__global const BundleElement* elements, __globa
   return (float4)(le.x * w, le.y * w, le.z * w, 0.0f);
 }
 
-// The uniform environment (--environment) as a patch receives it where no fragment is in front: an
-// emitter that only bundles and PT's BSDF samples reach (p_L = 0). For the direct chains weighted as
-// the RB bundle technique of the last segment, like rb_direct_received; for chain 0 with light
-// sampling nothing (it leaves light straight from emitters to the direct chain); for the others the
-// radiance itself, with the paper's P = 1 of an emitter (.w = ln 1).
+// The environment (--environment) as a patch receives it where no fragment is in front, the light
+// travelling along `travel`: for the direct chains weighted as the RB bundle technique of the last
+// segment with the environment light's p_L of -travel from the receiving patch (the number PT's BSDF
+// samples and the light samples use), like rb_direct_received; for chain 0 with light sampling
+// nothing (it leaves light straight from emitters to the direct chain); for the others the radiance
+// itself, with the paper's P = 1 of an emitter (.w = ln 1).
 static float4 rb_environment_received(__global const BundleElement* elements, __global const Material* materials,
                                       __global const Material* patch_materials, uint uv_slots, uint receiver_patch,
                                       uint receiver_element, float3 n_receiver, float3 travel, uint c, uint direct,
-                                      uint eye, int light_sampling, const BundleIteration* it) {
-  float3 env = bp_private3(it->environment);
+                                      uint eye, int light_sampling, const BundleIteration* it,
+                                      const LightSet* light_set) {
   if (c == 0u && light_sampling) return (float4)(0.0f, 0.0f, 0.0f, BP_NO_SENDER);
+  float3 env = environment_radiance(&light_set->environment, -travel);
   if (c != direct && c != eye) return (float4)(env.x, env.y, env.z, 0.0f);
+  if (env.x + env.y + env.z <= 0.0f) return (float4)(0.0f);
   Bsdf receiver =
       bsdf_from_material(rb_material(materials, patch_materials, uv_slots, elements[receiver_element].material, receiver_patch));
   float3 wi = facing(n_receiver, travel);
+  float p_light = light_pdf_uv_environment(light_set, receiver_patch, it->environment_light, -travel);
   float w;
   if (c == eye) {
     float proxy = eye_direct_proxy_pdf_uv(&receiver, dot(n_receiver, wi));
-    w = eye_segment_weights(it->weight_ratio, it->light_rate, proxy, 0.0f, 0.0f, 0).rb_bundle;
+    w = eye_segment_weights(it->weight_ratio, it->light_rate, proxy, 0.0f, p_light, 0).rb_bundle;
   } else {
     float3 wo = facing(n_receiver, bp_private3(it->omega_next));
     float pdf_bsdf = receiver.continuation * bsdf_pdf_uv(&receiver, n_receiver, wi, wo);
-    w = last_segment_weights(1.0f, it->weight_ratio, it->light_rate, pdf_bsdf, 0.0f, 0).rb_bundle;
+    w = last_segment_weights(1.0f, it->weight_ratio, it->light_rate, pdf_bsdf, p_light, 0).rb_bundle;
   }
   return (float4)(env.x * w, env.y * w, env.z * w, 0.0f);
 }
@@ -335,7 +341,8 @@ __kernel void rb_tile_resolve(__global const BundleElement* elements, __global c
                               __global ulong* fragment_total, __global const Light* lights,
                               __global const float* light_cdf, __global const LightTreeNode* light_tree,
                               __global const LightReceiver* light_receivers, const uint light_selection,
-                              __global const Material* patch_materials, const uint uv_slots) {
+                              __global const Material* patch_materials, const uint uv_slots,
+                              __global const float* environment_texels) {
   uint tile = (uint)get_global_id(0);
   if (tile == 0u) *fragment_total += tile_start[tiles];  // for the statistics, read back with the image sums
   if (tile >= tiles) return;
@@ -354,8 +361,9 @@ __kernel void rb_tile_resolve(__global const BundleElement* elements, __global c
   const int light_sampling = BP_FEATURE_LIGHT_SAMPLING && it.light_count > 0u;
   const uint chains = it.chains, direct = light_sampling ? it.direct_chain : chains;  // chains: none
   const uint eye = light_sampling && it.eye_direct_chain ? it.eye_direct_chain : chains;
-  const LightSet light_set_ = light_set(lights, light_cdf, light_tree, light_receivers, it.light_count, light_selection);
-  const int environment = it.environment[0] + it.environment[1] + it.environment[2] > 0.0f;
+  LightSet light_set_ = light_set(lights, light_cdf, light_tree, light_receivers, it.light_count, light_selection);
+  light_set_.environment = environment_map(environment_texels, it.environment_width, it.environment_height);
+  const int environment = light_set_.environment.width > 0u;
   for (uint b = 0; b < BP_TILE_BINS; ++b) {
     uint first = begin + bin_start[b], last = begin + bin_start[b + 1];
     if (first == last) continue;
@@ -384,7 +392,7 @@ __kernel void rb_tile_resolve(__global const BundleElement* elements, __global c
         else if (environment && a == first)  // nothing in front along -omega: the environment
           r = rb_environment_received(elements, materials, patch_materials, uv_slots, minus_patch, element,
                                       facing(-omega, n), omega, c, direct, eye,
-                                      light_sampling, &it);
+                                      light_sampling, &it, &light_set_);
         else if (sender != BP_NO_PATCH && (c == direct || c == eye) && minus_patch != BP_NO_PATCH)
           r = rb_direct_received(elements, materials, patch_materials, uv_slots, sender_element, element,
                                  facing(-omega, n), omega,
@@ -414,7 +422,7 @@ __kernel void rb_tile_resolve(__global const BundleElement* elements, __global c
         else if (environment && a + 1 == last)  // nothing in front along +omega: the environment
           r = rb_environment_received(elements, materials, patch_materials, uv_slots, own_plus, element,
                                       facing(omega, n), -omega, c, direct, eye,
-                                      light_sampling, &it);
+                                      light_sampling, &it, &light_set_);
         else if (next_minus != BP_NO_PATCH && (c == direct || c == eye) && own_plus != BP_NO_PATCH)
           r = rb_direct_received(elements, materials, patch_materials, uv_slots, next_element, element,
                                  facing(omega, n), -omega,
@@ -596,15 +604,17 @@ __kernel void rb_eye(__global const EyeHit* hits, __global const BundleElement* 
                      __global const float4* e_vertex, const uint gouraud, const BundleIteration it,
                      const uint pixels, __global float4* pixel_sum, __global const float4* eye_light,
                      __global const float4* eye_normals, __global const Material* patch_materials, const uint uv_slots,
-                     __global const float4* eye_texels) {
+                     __global const float4* eye_texels, __global const float* environment_texels) {
   uint pixel = (uint)get_global_id(0);
   if (pixel >= pixels) return;
   EyeHit h = hits[pixel];
   if (h.patch == BP_NO_PATCH) {
     // The environment seen from the eye, weighted as an emitter the eye sees: the empty prefix (RB's
     // alone under product weights, PT's where light sampling gives it the eye's emission).
-    float3 env = bp_private3(it.environment);
-    if (h.element != BP_NO_PATCH || env.x + env.y + env.z <= 0.0f) return;
+    if (h.element != BP_NO_PATCH) return;
+    const EnvironmentMap map = environment_map(environment_texels, it.environment_width, it.environment_height);
+    float3 env = environment_radiance(&map, make_float3(-h.wo[0], -h.wo[1], -h.wo[2]));
+    if (env.x + env.y + env.z <= 0.0f) return;
     float3 weighted = env;
     if (it.weight_mode == BP_WEIGHTS_PRODUCT && BP_FEATURE_LIGHT_SAMPLING && it.light_count > 0u)
       weighted = make_float3(0.0f, 0.0f, 0.0f);

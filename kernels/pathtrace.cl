@@ -103,25 +103,33 @@ static void add_light_sample(const SceneRefs* scene, const PathTraceParams* para
   radiance->raw += contribution * alone.pt_light;
 }
 
-// A ray that leaves the scene sees the uniform environment (--environment), weighted as an emitter:
+// A ray that leaves the scene along dir sees the environment (--environment), weighted as an emitter:
 // seen from the eye, by the empty prefix as the eye's emission (PT's alone with light sampling, RB's
 // alone under product weights without it, rb_eye); after a bounce, as the PT BSDF technique of the
-// last segment, whose RB bundle technique is the radiance a patch receives where nothing is in front
-// (rb_tile_resolve). No light sample reaches it: p_L = 0.
-static void add_environment(const PathTraceParams* params, const PathPdf* pdf, bp_u32 depth, float3 throughput,
-                            int light_sampling, float last_prefix_beta, float last_pdf_bsdf_patch,
-                            float last_pdf_bsdf, float last_pdf_proxy, PathRadiance* radiance) {
-  float3 seen = throughput * bp_private3(params->environment);
+// last segment with the environment light's p_L of dir from the patch that sampled it (its RB bundle
+// technique is the radiance a patch receives where nothing is in front, rb_tile_resolve).
+static void add_environment(const SceneRefs* scene, const PathTraceParams* params, const PathPdf* pdf, bp_u32 depth,
+                            float3 dir, float3 throughput, int light_sampling, float last_prefix_beta,
+                            float last_pdf_bsdf_patch, float last_pdf_bsdf, float last_pdf_proxy, bp_u32 last_patch,
+                            PathRadiance* radiance) {
+  float3 seen = throughput * environment_radiance(&scene->lights.environment, dir);
   if (seen.x + seen.y + seen.z <= 0.0f) return;
-  radiance->raw += seen;
   if (!light_sampling) {
+    radiance->raw += seen;
     radiance->weighted += seen * pt_emission_weight(pdf, params->weight_mode, params->weight_ratio);
   } else if (depth == 0u) {
+    radiance->raw += seen;
     radiance->weighted += seen;
   } else {
+    float pdf_light = light_pdf_uv_environment(&scene->lights, last_patch, params->environment_light, dir);
     LastSegmentWeights w = pt_last_segment_weights(params, depth - 1u, last_prefix_beta, last_pdf_bsdf_patch,
-                                                   last_pdf_bsdf, last_pdf_proxy, 0.0f, 0);
+                                                   last_pdf_bsdf, last_pdf_proxy, pdf_light, 0);
+    LastSegmentWeights alone =
+        last_prefix_beta > 0.0f ? last_segment_split(0.0f, params->weight_ratio, params->rb_light_rate,
+                                                     last_pdf_bsdf_patch, last_pdf_bsdf, pdf_light, 0)
+                                : w;
     radiance->weighted += seen * w.pt_bsdf;
+    radiance->raw += seen * alone.pt_bsdf;
   }
 }
 
@@ -143,8 +151,8 @@ static PathRadiance trace_path(const SceneRefs* scene, const PathTraceParams* pa
     *rays += 1u;
     if (!closest_surface_hit(scene->nodes, scene->triangles, scene->shading, &scene->lights.textures, scene->alpha_masks,
                              origin, dir, BP_FLOAT_MAX, params->ray_epsilon, &hit)) {
-      add_environment(params, &pdf, depth, throughput, light_sampling, last_prefix_beta, last_pdf_bsdf_patch,
-                      last_pdf_bsdf, last_pdf_proxy, &radiance);
+      add_environment(scene, params, &pdf, depth, dir, throughput, light_sampling, last_prefix_beta,
+                      last_pdf_bsdf_patch, last_pdf_bsdf, last_pdf_proxy, last_patch, &radiance);
       break;
     }
     SurfaceHit surface = surface_at_shaded(scene->shading, scene->shading_normals, params->shading_normals,
@@ -219,7 +227,7 @@ __kernel void pathtrace(__global const BvhNode* nodes, __global const BvhTriangl
                         __global const float* shading_normals, __global const TextureView* texture_views,
                         __global const uint* texels, __global const MaterialTextures* material_textures,
                         __global const float* texcoords, __global const Material* patch_materials,
-                        const uint alpha_masks) {
+                        const uint alpha_masks, __global const float* environment) {
   bp_u32 pixel = (bp_u32)get_global_id(0);
   if (pixel >= camera.width * camera.height) return;
   SceneRefs scene = {nodes, triangles, shading, materials, shading_normals,
@@ -227,6 +235,7 @@ __kernel void pathtrace(__global const BvhNode* nodes, __global const BvhTriangl
                      patch_materials, alpha_masks};
   const TextureSet textures = {texture_views, texels, material_textures, texcoords, params.uv_slots};
   scene.lights.textures = textures;
+  scene.lights.environment = environment_map(environment, params.environment_width, params.environment_height);
   bp_u32 px = pixel % camera.width, py = pixel / camera.width;
   float3 origin = make_float3(camera.position[0], camera.position[1], camera.position[2]);
   float3 sum = make_float3(0.0f, 0.0f, 0.0f), sum_raw = make_float3(0.0f, 0.0f, 0.0f);

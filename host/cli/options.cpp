@@ -1,5 +1,6 @@
 #include "cli/options.h"
 
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <filesystem>
@@ -19,6 +20,15 @@ T parse_number(const std::string& option, const std::string& text, T min_value, 
   if (!ok || value < min_value || value > max_value)
     throw UsageError(option + ": expected " + what + ", got '" + text + "'");
   return value;
+}
+
+// --environment's argument is a map file (not R,G,B) when it ends in .exr or names a file.
+bool names_environment_file(const std::string& v) {
+  const std::string ext = v.size() >= 4 ? v.substr(v.size() - 4) : "";
+  const bool exr = ext.size() == 4 && ext[0] == '.' && std::tolower(ext[1]) == 'e' && std::tolower(ext[2]) == 'x' &&
+                   std::tolower(ext[3]) == 'r';
+  std::error_code ignored;
+  return exr || std::filesystem::is_regular_file(v, ignored);
 }
 
 }  // namespace
@@ -131,7 +141,12 @@ options (defaults in brackets):
                       light is the mean over its uncovered part; 0 turns it off   [0.001]
   --environment R,G,B uniform environment radiance (W sr^-1 m^-2, linear RGB) that every ray
                       leaving the scene sees: the background, and light from every open
-                      direction (PT: by BSDF sampling; RB: where no patch is in front)  [0,0,0]
+                      direction (PT: by BSDF sampling and light sampling; RB: where no patch is
+                      in front, and its patches' light samples)  [0,0,0]
+  --environment FILE.exr  the same from an equirectangular RGB(A) EXR (any argument ending in .exr
+                      or naming a file): +Y up, the image's centre column looking along -Z,
+                      nearest-texel lookup, light sampling by luminance x sin(theta); at most
+                      8192x4096 texels, finite and >= 0 (else exit 3)
   --rb-shading S      eye estimate: gouraud (interpolated across patches) or flat  [gouraud]
   --stats FILE        write run statistics as JSON, with "estimated_rel_mse": the image's
                       relMSE estimated without a reference from the spread of batch means
@@ -196,6 +211,10 @@ RenderOptions parse_render_options(const std::vector<std::string>& args) {
          o.warmup = parse_number<std::uint32_t>(k, v, 0, 1u << 20, "an integer in 0..1048576");
        }},
       {"--environment", [&](auto& k, auto& v) {
+         if (names_environment_file(v)) {
+           o.environment_path = v;
+           return;
+         }
          std::array<float, 3> rgb{};
          std::size_t start = 0;
          for (int c = 0; c < 3; ++c) {

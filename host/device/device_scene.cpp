@@ -114,7 +114,13 @@ DeviceScene::DeviceScene(const DeviceContext& device, const Scene& scene, const 
   const std::vector<float> cdf_in = at_least_one(light_list.cdf);
   std::vector<float> normals_in = pack_shading_normals(scene);
   has_shading_normals = normals_in.empty() ? 0u : 1u;
-  for (int c = 0; c < 3; ++c) environment[c] = scene.environment[c];
+  const std::shared_ptr<const EnvironmentImage> environment_map = scene.environment_map();
+  const std::vector<float> environment_in = at_least_one(pack_environment(*environment_map));
+  environment_width = std::uint32_t(environment_map->width);
+  environment_height = std::uint32_t(environment_map->height);
+  environment_light = light_list.environment_light;
+  environment = upload_buffer(device, "environment map", environment_in);
+  environment_bytes = environment_map->empty() ? 0 : environment_in.size() * sizeof(float);
   normals_in = at_least_one(std::move(normals_in));
   const bool textured = scene.has_textures();
   uv_slots = textured ? scene.uv_slots : 0u;
@@ -163,7 +169,7 @@ DeviceScene::DeviceScene(const DeviceContext& device, const Scene& scene, const 
           shading_in.size() * sizeof(TriangleShading) + materials_in.size() * sizeof(Material) +
           lights_in.size() * sizeof(Light) + cdf_in.size() * sizeof(float) +
           tree_in.size() * sizeof(LightTreeNode) + receivers_in.size() * sizeof(LightReceiver) +
-          normals_in.size() * sizeof(float) + texture_bytes;  // (textures' stand-ins: a few bytes, not counted)
+          normals_in.size() * sizeof(float) + texture_bytes + environment_bytes;  // (textures' stand-ins: a few bytes, not counted)
 }
 
 }  // namespace bp

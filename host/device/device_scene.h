@@ -35,7 +35,11 @@ struct DeviceScene {
   std::uint32_t alpha_masks = 0;  // 1: some material has alphaMode MASK (kernels/shared/alpha_mask.h)
   cl::Buffer element_triangle, element_coverage;  // alpha masks: per RB element its triangle and surface fraction
   std::size_t texture_bytes = 0;  // of the above, device memory (in `bytes` too)
-  float environment[3] = {0.0f, 0.0f, 0.0f};  // Scene::environment, for the passes' parameters
+  // The environment map with its sampling cdfs (host/scene/environment_map.h; one dummy float
+  // without one), its size (0 x 0: none) and its light's index (BP_NO_LIGHT: none to sample).
+  cl::Buffer environment;
+  std::uint32_t environment_width = 0, environment_height = 0, environment_light = BP_NO_LIGHT;
+  std::size_t environment_bytes = 0;  // of the above, device memory (in `bytes` too)
   cl::Buffer light_tree, light_receivers;  // tree selection only (else one dummy entry each); receivers per patch
   std::uint32_t light_selection = BP_LIGHT_SELECTION_TREE;  // BP_LIGHT_SELECTION_*, the same for PT and RB
   std::size_t triangle_count = 0, node_count = 0;

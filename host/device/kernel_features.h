@@ -11,6 +11,7 @@ struct KernelFeatures {
   bool light_sampling = true;  // next-event estimation / per-patch shadow rays (kernels/shared/lights.h)
   bool shading_normals = true; // interpolated NORMAL corners (kernels/shared/surface.h); off: flat normals only
   bool textures = true;        // glTF textures (kernels/shared/texture.h); off: every material is its factors
+  bool environment = true;     // an environment light (kernels/shared/environment_map.h); off: rays leave into black
 };
 
 // What `scene` needs when light sampling is `light_sampling`.

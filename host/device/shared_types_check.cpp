@@ -14,14 +14,14 @@ static_assert(offsetof(TriangleShading, material) == 12 && offsetof(TriangleShad
 BP_CHECK_LAYOUT(CameraParams, 64);
 static_assert(offsetof(CameraParams, right) == 16 && offsetof(CameraParams, forward) == 48);
 BP_CHECK_LAYOUT(PathTraceParams, 64);
-static_assert(offsetof(PathTraceParams, environment) == 48);
+static_assert(offsetof(PathTraceParams, environment_width) == 48 && offsetof(PathTraceParams, environment_light) == 56);
 BP_CHECK_LAYOUT(PixelAccum, 32);
 static_assert(offsetof(PixelAccum, raw) == 16);
 
 #include "kernels/shared/bundle_types.h"
 BP_CHECK_LAYOUT(BundleElement, 64);
 BP_CHECK_LAYOUT(BundleIteration, 144);
-static_assert(offsetof(BundleIteration, environment) == 128 && offsetof(BundleIteration, contact_depth) == 140);
+static_assert(offsetof(BundleIteration, environment_width) == 128 && offsetof(BundleIteration, environment_light) == 136 && offsetof(BundleIteration, contact_depth) == 140);
 static_assert(offsetof(BundleIteration, omega_prev) == 64 && offsetof(BundleIteration, weight_ratio) == 88 &&
               offsetof(BundleIteration, omega_next) == 96);
 BP_CHECK_LAYOUT(EyeHit, 32);

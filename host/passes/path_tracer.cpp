@@ -18,7 +18,9 @@ PathTracerPass::PathTracerPass(const DeviceContext& device, const DeviceScene& s
   params_.eye_direct_shared = settings.eye_direct_shared && settings.weight_mode == BP_WEIGHTS_PRODUCT ? 1u : 0u;
   params_.shading_normals = scene.has_shading_normals;
   params_.uv_slots = scene.uv_slots;
-  for (int c = 0; c < 3; ++c) params_.environment[c] = scene.environment[c];
+  params_.environment_width = scene.environment_width;
+  params_.environment_height = scene.environment_height;
+  params_.environment_light = settings.light_sampling ? scene.environment_light : BP_NO_LIGHT;
   program_ = build_program(device, "pathtrace.cl", settings.kernel_options);
   kernel_ = cl::Kernel(program_.program, "pathtrace");
   std::size_t pixels = std::size_t(camera.width) * camera.height;
@@ -27,7 +29,7 @@ PathTracerPass::PathTracerPass(const DeviceContext& device, const DeviceScene& s
   set_args(kernel_, scene.nodes, scene.triangles, scene.shading, scene.materials, scene.lights, scene.light_cdf, camera_,
            params_, pixels_, scene.light_tree, scene.light_receivers, cl_uint(scene.light_selection),
            scene.shading_normals, scene.texture_views, scene.texels, scene.material_textures, scene.texcoords,
-           scene.patch_materials, cl_uint(scene.alpha_masks));
+           scene.patch_materials, cl_uint(scene.alpha_masks), scene.environment);
 }
 
 std::uint32_t PathTracerPass::max_batch() const {

@@ -252,7 +252,9 @@ BundleIteration RayBundlePass::iteration_params(std::uint64_t iteration) const {
   it.eye_direct_chain = shares_eye_direct(settings_) ? 2u : 0u;
   it.contact_depth = settings_.contact_depth_fraction * 2.0f * radius_;
   it.shading_normals = scene_.has_shading_normals;
-  for (int c = 0; c < 3; ++c) it.environment[c] = scene_.environment[c];
+  it.environment_width = scene_.environment_width;
+  it.environment_height = scene_.environment_height;
+  it.environment_light = samples_lights(settings_) ? scene_.environment_light : BP_NO_LIGHT;
   return it;
 }
 
@@ -263,7 +265,8 @@ void RayBundlePass::iterate(std::uint64_t iteration) {
            scene_.triangles, scene_.lights, scene_.light_cdf, cl_uint(settings_.seed ^ kLightSeedSalt),
            cl_uint(iteration), scene_.ray_epsilon, eye_light_, scene_.light_tree, scene_.light_receivers,
            cl_uint(scene_.light_selection), scene_.patch_materials, cl_uint(scene_.uv_slots), scene_.texture_views,
-           scene_.texels, scene_.material_textures, scene_.texcoords, scene_.shading, cl_uint(scene_.alpha_masks));
+           scene_.texels, scene_.material_textures, scene_.texcoords, scene_.shading, cl_uint(scene_.alpha_masks),
+           scene_.environment);
   launcher_.launch("rb_outgoing", outgoing_, patch_count_, 64);
 
   set_args(emit_, elements_, it, elements, slot_start_, fragment_counts_, fragment_key_, fragment_depth_, tile_counts_,
@@ -282,7 +285,7 @@ void RayBundlePass::iterate(std::uint64_t iteration) {
   set_args(tile_resolve_, elements_, scene_.materials, tile_start_, tiled_local_, tiled_depth_, tiled_element_,
            tile_order_, l_out_, it, as_uint(tile_count_), received_minus_, received_plus_, fragment_total_,
            scene_.lights, scene_.light_cdf, scene_.light_tree, scene_.light_receivers, cl_uint(scene_.light_selection),
-           scene_.patch_materials, cl_uint(scene_.uv_slots));
+           scene_.patch_materials, cl_uint(scene_.uv_slots), scene_.environment);
   launcher_.launch("rb_tile_resolve", tile_resolve_, tile_count_, 8);
 
   set_args(gather_, elements_, slot_start_, fragment_counts_, tiled_at_, received_minus_, received_plus_, it, elements,
@@ -313,7 +316,7 @@ BatchCounts RayBundlePass::run(std::uint64_t first, std::uint32_t count) {
     for (const EyeView& view : views_) {
       set_args(eye_, view.hits, elements_, patch_element_, scene_.materials, e_in_, patch_vertices_, e_vertex_,
                cl_uint(settings_.gouraud ? 1 : 0), it, as_uint(pixel_count_), view.pixel_sum, eye_light_,
-               view.normals, scene_.patch_materials, cl_uint(scene_.uv_slots), view.texels);
+               view.normals, scene_.patch_materials, cl_uint(scene_.uv_slots), view.texels, scene_.environment);
       launcher_.launch("rb_eye", eye_, pixel_count_, 64);
     }
     // The device sums the eye estimates in float: move them to the host's double sums after every

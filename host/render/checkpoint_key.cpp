@@ -16,6 +16,8 @@ std::string options_key(const RenderSpec& o, int width, int height, float patch_
   if (o.environment != std::array<float, 3>{0.0f, 0.0f, 0.0f})
     key += ";environment=" + std::to_string(o.environment[0]) + "," + std::to_string(o.environment[1]) + "," +
            std::to_string(o.environment[2]);
+  if (!o.environment_path.empty())
+    key += ";environment=" + std::filesystem::absolute(o.environment_path).lexically_normal().string();
   if (!o.views.camera.empty()) key += ";camera=" + o.views.camera;  // --camera: other than the default view
   if (o.mode != "pt")
     key += ";bins=" + std::to_string(bins) + ";warmup=" + std::to_string(o.warmup) +

@@ -38,6 +38,7 @@ RenderScene prepare_scene(const RenderSpec& o, const std::function<void(const st
   s.scene = load_gltf(o.scene);
   Scene& scene = s.scene;
   scene.environment = glm::vec3(o.environment[0], o.environment[1], o.environment[2]);
+  if (!o.environment_path.empty()) scene.environment_image = std::make_shared<const EnvironmentImage>(load_environment_exr(o.environment_path));
   for (const std::string& w : scene.warnings)
     if (!(scene.has_environment() && w.rfind("no emitter", 0) == 0))  // the environment lights it
       note("warning: " + o.scene + ": " + w);

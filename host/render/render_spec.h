@@ -56,6 +56,7 @@ struct RenderSpec {
   std::string stats_path;
   float exposure = 0.0f;         // PNG exposure in stops
   std::array<float, 3> environment{0.0f, 0.0f, 0.0f};  // --environment R,G,B: uniform radiance, W sr^-1 m^-2
+  std::string environment_path;  // --environment FILE.exr: an equirectangular radiance map (wins over R,G,B)
   std::uint32_t max_depth = 65536;
   // The views (walkthroughs, DESIGN.md §8): --camera, --cameras all, --camera-path, --camera-animation,
   // --fps. A walkthrough writes PREFIX_0000.exr, PREFIX_0000.png, ... (render_outputs.h).

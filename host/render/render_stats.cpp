@@ -162,6 +162,7 @@ nlohmann::json render_stats(const RenderState& s, const RenderResult& r) {
   stats["patch_size"] = s.scene.patch_size;
   stats["scene_device_bytes"] = device_scene.bytes;  // BVH, shading, materials, lights, light tree, receivers, textures
   stats["texture_device_bytes"] = device_scene.texture_bytes;  // texels, views, texcoords, patch means
+  stats["environment_device_bytes"] = device_scene.environment_bytes;  // the environment map and its cdfs
   stats["load_seconds"] = s.scene.load_seconds;
   stats["bvh_build_seconds"] = s.scene.bvh_seconds;
   add_pass_stats(s, stats);

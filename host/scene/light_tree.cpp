@@ -242,11 +242,11 @@ struct Builder {
 
 std::vector<LightTreeNode> build_light_tree(LightList& lights, const Scene& scene, float offset) {
   Builder b{lights, {}, {}, {}};
-  // Directional lights (last in the list) have no place: light selection picks them outside the
+  // Directional lights and the environment (last in the list) have no place: light selection picks them outside the
   // tree, by power (kernels/shared/lights.h); the tree holds the others.
   const std::size_t all = lights.lights.size();
   std::size_t n = 0;
-  while (n < all && lights.lights[n].type != BP_LIGHT_DIRECTIONAL) ++n;
+  while (n < all && !light_is_infinite(lights.lights[n].type)) ++n;
   if (n == 0) return {};
   b.light_bounds.reserve(n);
   for (std::size_t k = 0; k < n; ++k) {

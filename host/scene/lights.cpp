@@ -72,6 +72,18 @@ LightList build_light_list(const Scene& scene) {
     out.lights.push_back(l);
     power.push_back(light_power);
   }
+  // The environment, last: the power it sends into the scene's bounding sphere, pi R^2 times its
+  // integral over directions (exact for a uniform one: pi L 4 pi R^2).
+  const std::shared_ptr<const EnvironmentImage> environment = scene.environment_map();
+  const double environment_power =
+      environment->empty() ? 0.0 : M_PI * scene_radius * scene_radius * environment_integral(*environment);
+  if (environment_power > 0.0) {
+    Light l{};
+    l.type = BP_LIGHT_ENVIRONMENT;
+    out.environment_light = std::uint32_t(out.lights.size());
+    out.lights.push_back(l);
+    power.push_back(environment_power);
+  }
   for (double w : power) out.total_power += w;
   if (!(out.total_power > 0.0) || !std::isfinite(out.total_power)) {
     LightList none;

@@ -1,10 +1,12 @@
 // The scene as the renderer sees it, independent of file format and of OpenCL.
 #pragma once
 #include "kernels/shared/texture.h"
+#include "scene/environment_map.h"
 #include "scene/scene_cameras.h"
 #include <glm/glm.hpp>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -68,6 +70,9 @@ struct Scene {
   std::vector<TextureView> texture_views;
   std::uint32_t uv_slots = 0;            // texcoord sets per triangle that textures read (<= BP_MAX_UV_SLOTS)
   glm::vec3 environment{0.0f};           // uniform radiance of every direction that leaves the scene, W sr^-1 m^-2
+  // --environment FILE.exr: radiance by direction (wins over `environment`); shared, as copies of a
+  // scene never change it and a map may hold hundreds of MB
+  std::shared_ptr<const EnvironmentImage> environment_image;
   SceneCamera camera;                    // the view of a plain render: the first camera node's, else a default
   std::vector<SceneCameraNode> camera_nodes;  // every perspective camera node, in traversal order
   std::vector<std::string> node_names;   // every node of the file, by index ("" if unnamed)
@@ -77,7 +82,13 @@ struct Scene {
   bool has_shading_normals() const;      // some triangle has NORMAL corners
   bool has_textures() const;             // some material has a texture
   bool has_alpha_masks() const;          // some material has alphaMode MASK with a texture
-  bool has_environment() const { return environment.x > 0.0f || environment.y > 0.0f || environment.z > 0.0f; }
+  // The environment as the kernels see it: the EXR's map, else the uniform radiance's 1x1 map.
+  std::shared_ptr<const EnvironmentImage> environment_map() const {
+    return environment_image ? environment_image : std::make_shared<const EnvironmentImage>(uniform_environment(environment));
+  }
+  bool has_environment() const {
+    return environment_image || environment.x > 0.0f || environment.y > 0.0f || environment.z > 0.0f;
+  }
   bool has_light() const { return emissive_triangles() > 0 || !lights.empty() || has_environment(); }
 };
 

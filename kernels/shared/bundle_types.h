@@ -56,7 +56,9 @@ typedef struct {
   float light_rate;       // probability that a patch traces its light sample in an iteration (in (0, 1])
   bp_u32 eye_direct_chain;  // the chain of direct light weighted for the eye vertex (--eye-direct shared), 0: none
   bp_u32 shading_normals;   // 1: the eye gather reflects with the eye hits' shading normals (rb_eye_hits)
-  float environment[3];     // uniform radiance arriving where no fragment is in front (--environment)
+  bp_u32 environment_width;   // the environment map arriving where no fragment is in front (--environment,
+  bp_u32 environment_height;  //   kernels/shared/environment_map.h); 0 x 0: none
+  bp_u32 environment_light;   // its index among the lights to sample; BP_NO_LIGHT: not sampled (p_L = 0)
   float contact_depth;      // metres: consecutive fragments of a bin closer than this along omega touch (no transfer)
 } BundleIteration;
 

@@ -63,7 +63,7 @@ inline bp_float4 bp_max4(bp_float4 a, bp_float4 b) { return a > b ? a : b; }
 
 using std::acos; using std::cos; using std::exp; using std::fabs; using std::floor; using std::fmax;
 using std::fmin; using std::log; using std::log1p; using std::expm1; using std::pow; using std::sin;
-using std::sqrt; using std::ceil;
+using std::sqrt; using std::ceil; using std::atan2;
 
 // float3 as OpenCL C sees it, for the arithmetic that shared code does.
 struct float3 { float x, y, z; };
@@ -102,6 +102,9 @@ inline float3 fmin(float3 a, float3 b) { return {std::fmin(a.x, b.x), std::fmin(
 #endif
 #ifndef BP_FEATURE_TEXTURES
 #define BP_FEATURE_TEXTURES 1
+#endif
+#ifndef BP_FEATURE_ENVIRONMENT
+#define BP_FEATURE_ENVIRONMENT 1
 #endif
 
 #define BP_PI 3.14159265358979323846f

@@ -8,11 +8,15 @@
 #include "shared/types.h"
 #include "shared/light_tree.h"
 #include "shared/texture.h"
+#include "shared/environment_map.h"
 
 #define BP_LIGHT_TRIANGLE 0u
 #define BP_LIGHT_POINT 1u
 #define BP_LIGHT_SPOT 2u
-#define BP_LIGHT_DIRECTIONAL 3u  // a sun: parallel light of irradiance `intensity` (W m^-2) along `axis`; last in the list
+#define BP_LIGHT_DIRECTIONAL 3u  // a sun: parallel light of irradiance `intensity` (W m^-2) along `axis`; after the others
+#define BP_LIGHT_ENVIRONMENT 4u  // the environment map (environment_map.h); the very last when the scene has one
+// Directional lights and the environment are "infinite": no position for the light tree to bound.
+BP_FN int light_is_infinite(bp_u32 type) { return type >= BP_LIGHT_DIRECTIONAL; }
 
 #define BP_LIGHT_SELECTION_TREE 0u   // by the light tree, for the receiving patch (--light-selection tree)
 #define BP_LIGHT_SELECTION_POWER 1u  // by power alone, the same for every receiver
@@ -65,6 +69,12 @@ BP_FN float light_pdf_uv_area(float light_pdf_area, float distance, float cos_li
   return fmin(BP_TWO_PI * light_pdf_area * distance * distance / cos_light, 1e30f);
 }
 
+// Density in the uv measure of the environment light reaching direction wi when it is selected with
+// probability select_probability: p_uv = 2 pi P(select) p_solid(wi) (eq. 7), capped as for areas.
+BP_FN float environment_light_pdf_uv(float select_probability, const EnvironmentMap* m, float3 wi) {
+  return fmin(BP_TWO_PI * select_probability * environment_pdf_solid_angle(m, wi), 1e30f);
+}
+
 // glTF spot cone (KHR_lights_punctual): smooth in cos between the outer and inner angles, squared.
 BP_FN float spot_attenuation(float cos_axis, float cos_outer, float cos_inner) {
   float t = clamp((cos_axis - cos_outer) / fmax(cos_inner - cos_outer, 1e-3f), 0.0f, 1.0f);
@@ -81,6 +91,7 @@ typedef struct {
   bp_u32 count;
   bp_u32 selection;  // BP_LIGHT_SELECTION_*
   TextureSet textures;  // emissive textures (uv_slots 0: none; light_set leaves it so)
+  EnvironmentMap environment;  // the environment light's map (width 0: none; light_set leaves it so)
 } LightSet;
 
 BP_FN LightSet light_set(BP_GLOBAL const Light* lights, BP_GLOBAL const float* cdf, BP_GLOBAL const LightTreeNode* tree,
@@ -97,6 +108,7 @@ BP_FN LightSet light_set(BP_GLOBAL const Light* lights, BP_GLOBAL const float* c
   s.textures.materials = 0;
   s.textures.texcoords = 0;
   s.textures.uv_slots = 0u;
+  s.environment = environment_map(0, 0u, 0u);
   return s;
 }
 
@@ -138,13 +150,14 @@ BP_FN LightPick light_leaf_pick(const LightSet* set, BP_GLOBAL const LightTreeNo
   return pick;
 }
 
-// Directional lights have no position for the tree to bound: they are the lights after the tree's,
-// chosen with their share of the power (select_probability) for every receiver, the tree's lights
-// with the rest. Their total share, and the index of the first of them (count: none).
+// Directional lights and the environment have no position for the tree to bound: they are the
+// lights after the tree's, chosen with their share of the power (select_probability) for every
+// receiver, the tree's lights with the rest. Their total share, and the index of the first of them
+// (count: none).
 BP_FN float light_directional_share(const LightSet* set, bp_u32* first) {
   float share = 0.0f;
   bp_u32 i = set->count;
-  while (i > 0u && set->lights[i - 1u].type == BP_LIGHT_DIRECTIONAL) share += set->lights[--i].select_probability;
+  while (i > 0u && light_is_infinite(set->lights[i - 1u].type)) share += set->lights[--i].select_probability;
   *first = i;
   return share;
 }
@@ -190,7 +203,7 @@ BP_FN float light_select_probability(const LightSet* set, bp_u32 receiver_patch,
   if (set->selection != BP_LIGHT_SELECTION_TREE) return l->select_probability;
   bp_u32 first_directional;
   const float directional = light_directional_share(set, &first_directional);
-  if (l->type == BP_LIGHT_DIRECTIONAL) return l->select_probability / (first_directional == 0u ? directional : 1.0f);
+  if (light_is_infinite(l->type)) return l->select_probability / (first_directional == 0u ? directional : 1.0f);
   bp_u32 leaf = 0u;
   float p = light_tree_probability(set->tree, &set->receivers[receiver_patch], l->tree_trail[0], l->tree_trail[1],
                                    l->tree_depth, &leaf);
@@ -228,7 +241,11 @@ BP_FN LightSample light_sample(const LightSet* set, BP_GLOBAL const Material* ma
     s.wi = -bp_load3(l->axis);
     s.distance = BP_FLOAT_MAX;
   }
-  s.is_delta = l->type != BP_LIGHT_TRIANGLE;
+  if (l->type == BP_LIGHT_ENVIRONMENT) {  // by the map's luminance, as far as any ray goes
+    s.wi = environment_sample(&set->environment, u1, u2).wi;
+    s.distance = BP_FLOAT_MAX;
+  }
+  s.is_delta = l->type != BP_LIGHT_TRIANGLE && l->type != BP_LIGHT_ENVIRONMENT;
   s.radiance_over_pdf = make_float3(0.0f, 0.0f, 0.0f);
   s.pdf_uv = 0.0f;
   if (!(s.distance > 0.0f) || !(pick.probability > 0.0f)) return s;
@@ -246,6 +263,10 @@ BP_FN LightSample light_sample(const LightSet* set, BP_GLOBAL const Material* ma
         le = make_float3(0.0f, 0.0f, 0.0f);
     }
     if (s.pdf_uv > 0.0f) s.radiance_over_pdf = le * (BP_TWO_PI / s.pdf_uv);  // L / p_solid
+  } else if (l->type == BP_LIGHT_ENVIRONMENT) {
+    // the density and radiance as functions of the direction, as every other technique evaluates them
+    s.pdf_uv = environment_light_pdf_uv(pick.probability, &set->environment, s.wi);
+    if (s.pdf_uv > 0.0f) s.radiance_over_pdf = environment_radiance(&set->environment, s.wi) * (BP_TWO_PI / s.pdf_uv);
   } else if (l->type == BP_LIGHT_DIRECTIONAL) {
     s.radiance_over_pdf = bp_load3(l->intensity) * (1.0f / pick.probability);  // E / P(select): L / p_solid of a delta
   } else {
@@ -255,6 +276,14 @@ BP_FN LightSample light_sample(const LightSet* set, BP_GLOBAL const Material* ma
     s.radiance_over_pdf = bp_load3(l->intensity) * (falloff / (s.distance * s.distance * pick.probability));
   }
   return s;
+}
+
+// p_L of a ray from the receiving patch that leaves the scene along wi: the environment light's
+// (light = its index, BP_NO_LIGHT where light sampling does not take it) -- for PT's BSDF samples
+// and RB's bundles, the same number light_sample gave the light techniques.
+BP_FN float light_pdf_uv_environment(const LightSet* set, bp_u32 receiver_patch, bp_u32 light, float3 wi) {
+  if (light == BP_NO_LIGHT || set->environment.width == 0u) return 0.0f;
+  return environment_light_pdf_uv(light_select_probability(set, receiver_patch, light), &set->environment, wi);
 }
 
 #endif  // BP_SHARED_LIGHTS_H

@@ -55,7 +55,9 @@ typedef struct {
   float rb_light_rate;       // the ray bundles' light-sample rate (BundleIteration), for the weights
   bp_u32 eye_direct_shared;  // 1: the eye vertex's direct light is split with RB (eye_segment_weights)
   bp_u32 shading_normals;    // 1: the scene has NORMAL corners to interpolate (surface.h)
-  float environment[3];      // uniform radiance where a ray leaves the scene (--environment), W sr^-1 m^-2
+  bp_u32 environment_width;  // the environment map where a ray leaves the scene (--environment,
+  bp_u32 environment_height; //   kernels/shared/environment_map.h); 0 x 0: none
+  bp_u32 environment_light;  // its index among the lights to sample; BP_NO_LIGHT: not sampled (p_L = 0)
   bp_u32 uv_slots;           // texcoord sets per triangle (kernels/shared/texture.h); 0: no textures
 } PathTraceParams;
 

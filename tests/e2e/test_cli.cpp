@@ -20,7 +20,8 @@ TEST(Cli, HelpDocumentsEveryRenderOption) {
   CliResult r = run_cli("render --help");
   EXPECT_EQ(r.exit_code, 0);
   for (const char* opt : {"--out", "--width", "--height", "--spp", "--time", "--seed", "--device", "--mode",
-                          "--patch-size", "--stats", "--no-light-sampling", "--kernels", "--environment"})
+                          "--patch-size", "--stats", "--no-light-sampling", "--kernels", "--environment",
+                          "--environment FILE.exr", "8192x4096"})
     EXPECT_NE(r.output.find(opt), std::string::npos) << opt;
   EXPECT_EQ(run_cli("--help").exit_code, 0);
   EXPECT_EQ(run_cli("--version").exit_code, 0);
@@ -320,6 +321,76 @@ TEST(Cli, TexturedSceneCountsItsTextureMemory) {
   nlohmann::json c = nlohmann::json::parse(std::ifstream(dir + "/c.json"));
   EXPECT_NE(c["kernel_options"].get<std::string>().find("BP_FEATURE_TEXTURES=0"), std::string::npos);
   EXPECT_EQ(c["texture_device_bytes"].get<double>(), 0.0);
+}
+
+// --environment FILE.exr (issue #13): a constant map renders as --environment R,G,B of its value (a
+// z-test of the path-traced images' mean difference, pixels independent), the combination runs with
+// it, and the map and its cdfs are counted as device memory with the environment kernels; a scene
+// without an environment builds without them and holds none.
+TEST(Cli, ConstantEnvironmentMapRendersAsTheUniformRadiance) {
+  const std::string dir = fresh_dir("environment_map");
+  const std::string quad = std::string(BP_SOURCE_DIR) + "/tests/data/gltf/good/textured-quad.gltf";
+  ImageRGB sky(8, 4);
+  for (std::size_t i = 0; i < sky.rgb.size(); ++i) sky.rgb[i] = i % 3 == 0 ? 1.0f : i % 3 == 1 ? 0.5f : 0.25f;
+  write_exr(dir + "/sky.exr", {{"", &sky}});
+  const std::string size = " --width 24 --height 24 --spp 64 --seed ";
+  CliResult uniform = run_cli("render " + quad + " --mode pt --environment 1,0.5,0.25" + size + "3 --out " + dir + "/u");
+  CliResult mapped = run_cli("render " + quad + " --mode pt --environment " + dir + "/sky.exr" + size + "4 --out " + dir +
+                             "/m --stats " + dir + "/m.json");
+  ASSERT_EQ(uniform.exit_code, 0) << uniform.output;
+  ASSERT_EQ(mapped.exit_code, 0) << mapped.output;
+  const ImageRGB u = read_exr(dir + "/u.exr"), m = read_exr(dir + "/m.exr");
+  for (int c = 0; c < 3; ++c) {
+    double sum = 0.0, sum2 = 0.0;
+    const std::size_t n = std::size_t(u.width) * u.height;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double d = double(u.rgb[3 * i + c]) - m.rgb[3 * i + c];
+      sum += d;
+      sum2 += d * d;
+    }
+    const double mean = sum / n, se = std::sqrt(std::max(0.0, sum2 / n - mean * mean) / n);
+    EXPECT_NEAR(mean, 0.0, 4.5 * se + 1e-6) << "channel " << c;
+  }
+  nlohmann::json stats = nlohmann::json::parse(std::ifstream(dir + "/m.json"));
+  EXPECT_NE(stats["kernel_options"].get<std::string>().find("BP_FEATURE_ENVIRONMENT=1"), std::string::npos);
+  // the marginal cdf (H + 1), the conditional ones (H (W + 1)) and the RGB texels, in floats
+  EXPECT_EQ(stats["environment_device_bytes"].get<double>(), double((5 + 4 * 9 + 8 * 4 * 3) * sizeof(float)));
+  EXPECT_GE(stats["scene_device_bytes"].get<double>(), stats["environment_device_bytes"].get<double>());
+  CliResult combined = run_cli("render " + quad + " --mode combined --environment " + dir +
+                               "/sky.exr --width 16 --height 16 --spp 4 --out " + dir + "/c");
+  ASSERT_EQ(combined.exit_code, 0) << combined.output;
+  CliResult plain = run_cli("render " + kScenes + "cornell-box.gltf --width 16 --height 16 --spp 1 --out " + dir +
+                            "/p --stats " + dir + "/p.json");
+  ASSERT_EQ(plain.exit_code, 0) << plain.output;
+  nlohmann::json p = nlohmann::json::parse(std::ifstream(dir + "/p.json"));
+  EXPECT_NE(p["kernel_options"].get<std::string>().find("BP_FEATURE_ENVIRONMENT=0"), std::string::npos);
+  EXPECT_EQ(p["environment_device_bytes"].get<double>(), 0.0);
+}
+
+// Environment maps that cannot be read (issue #13): exit 3, one line naming the file, nothing written.
+TEST(Cli, BadEnvironmentMapsExitThreeNamingTheFileWritingNothing) {
+  const std::string dir = fresh_dir("bad_environment");
+  std::ofstream(dir + "/text.exr") << "not an image\n";
+  ImageRGB nan(4, 2), negative(4, 2), wide(8193, 1);
+  nan.rgb[4] = NAN;
+  negative.rgb[2] = -1.0f;
+  write_exr(dir + "/nan.exr", {{"", &nan}});
+  write_exr(dir + "/negative.exr", {{"", &negative}});
+  write_exr(dir + "/wide.exr", {{"", &wide}});
+  for (const auto& [file, needle] : std::vector<std::pair<std::string, std::string>>{
+           {dir + "/missing.exr", "no such file"},
+           {dir + "/text.exr", "not an OpenEXR file"},
+           {dir + "/nan.exr", "finite and >= 0"},
+           {dir + "/negative.exr", "finite and >= 0"},
+           {dir + "/wide.exr", "beyond the limit"}}) {
+    CliResult r = run_cli("render " + kScenes + "cornell-box.gltf --environment " + file + " --spp 1 --out " + dir + "/x");
+    EXPECT_EQ(r.exit_code, 3) << file << ": " << r.output;
+    EXPECT_NE(r.output.find(file + ": "), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find(needle), std::string::npos) << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << "one line: " << r.output;
+    EXPECT_FALSE(fs::exists(dir + "/x.exr")) << file;
+    EXPECT_FALSE(fs::exists(dir + "/x.png")) << file;
+  }
 }
 
 TEST(Cli, NoOpenClPlatformExitsTwoNamingThePackage) {

@@ -1,13 +1,16 @@
 // The combination's invariant (DESIGN.md §3): for any path, the weight the PT kernel code gives it and
 // the weight the RB kernel code gives it sum to one (--weights product, and the paper's weights on a
 // single path), never NaN, never outside [0, 1] -- run on the test device.
+#include "environment_maps.h"
 #include "kernel/device_fixture.h"
 
 #include "device/launcher.h"
 #include "device/program_cache.h"
 #include "kernels/shared/brdf.h"
 #include "kernels/shared/path_pdf.h"
+#include "kernels/shared/lights.h"
 #include "kernels/shared/weights.h"
+#include "scene/lights.h"
 
 #include <gtest/gtest.h>
 #include <cmath>
@@ -129,7 +132,8 @@ LightConnections make_light_connections(std::uint32_t count, std::uint32_t seed)
 // DESIGN.md §3, light sampling: for random paths of every length (1 = the eye vertex's direct light,
 // which PT owns alone under --eye-direct pt and shares with RB under --eye-direct shared), area and delta lights, the four techniques' weights computed the way the PT
 // kernel and the RB kernel compute them sum to one, each finite and in [0, 1].
-TEST(CombinationWeights, FourTechniquesOfTheLastSegmentSumToOne) {
+template <class Connections>
+void expect_four_techniques_sum_to_one(Connections make_connections) {
   const std::uint32_t count = 2000;
   const DeviceContext& device = test_device();
   BuiltProgram program = build_program(device, "test/weights_test.cl");
@@ -140,7 +144,7 @@ TEST(CombinationWeights, FourTechniquesOfTheLastSegmentSumToOne) {
   for (std::uint32_t vertices : {1u, 2u, 3u, 8u, 40u, 300u})
     for (float ratio : {1e-4f, 0.0625f, 1.0f, 16.0f, 1e4f}) {
       Paths paths = make_paths(count, vertices, 29u + vertices);
-      LightConnections lights = make_light_connections(count, 31u + vertices);
+      LightConnections lights = make_connections(count, 31u + vertices);
       cl::Buffer materials = upload_buffer(device, "materials", paths.materials);
       cl::Buffer geometry = upload_buffer(device, "geometry", paths.geometry);
       cl::Buffer pdf = upload_buffer(device, "light pdfs", lights.pdf);
@@ -172,6 +176,45 @@ TEST(CombinationWeights, FourTechniquesOfTheLastSegmentSumToOne) {
         }
       }
     }
+}
+
+TEST(CombinationWeights, FourTechniquesOfTheLastSegmentSumToOne) {
+  expect_four_techniques_sum_to_one(make_light_connections);
+}
+
+// The same where the light is the environment map (--environment FILE.exr): p_L of a direction is
+// light_pdf_uv_environment's, the one function PT's BSDF samples, its light samples, RB's bundles and
+// RB's light samples all call (kernels/shared/lights.h) -- over the graded sky with a sun beside it,
+// from 0 (black texels, the poles) to huge (near the poles of a bright row).
+LightConnections make_environment_connections(std::uint32_t count, std::uint32_t seed) {
+  Scene scene;
+  EnvironmentImage sky = graded_sky();
+  for (int column = 0; column < 8; ++column)  // the top row: bright, with one black texel
+    for (int c = 0; c < 3; ++c) sky.rgb[3 * column + c] = column == 2 ? 0.0f : 50.0f;
+  scene.environment_image = std::make_shared<const EnvironmentImage>(sky);
+  scene.bounds.grow(glm::vec3(-1.0f));
+  scene.bounds.grow(glm::vec3(1.0f));
+  ScenePunctualLight sun;
+  sun.kind = ScenePunctualLight::Kind::directional;
+  scene.lights = {sun};
+  const LightList list = build_light_list(scene);
+  const std::vector<float> packed = pack_environment(sky);
+  LightSet set = light_set(list.lights.data(), list.cdf.data(), nullptr, nullptr, std::uint32_t(list.lights.size()),
+                           BP_LIGHT_SELECTION_POWER);
+  set.environment = environment_map(packed.data(), 8u, 4u);
+  std::mt19937 rng(seed);
+  LightConnections c;
+  for (std::uint32_t i = 0; i < count; ++i) {
+    float3 wi = random_unit(rng);
+    if (i % 7 == 0) wi = normalize(make_float3(wi.x * 1e-4f, 1.0f, wi.z * 1e-4f));  // at the pole
+    c.pdf.push_back(light_pdf_uv_environment(&set, 0u, list.environment_light, wi));
+    c.is_delta.push_back(0u);
+  }
+  return c;
+}
+
+TEST(CombinationWeights, FourTechniquesOfTheLastSegmentSumToOneForTheEnvironment) {
+  expect_four_techniques_sum_to_one(make_environment_connections);
 }
 
 TEST(CombinationWeights, DirectlyVisibleEmitterBelongsToRbUnderProductWeights) {
