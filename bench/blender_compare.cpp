@@ -165,6 +165,18 @@ int main(int argc, char** argv) {
                 "(Cycles %.4g, ours %.4g); blocks over 5 %%: %d; RMS over blocks: %s.\n\n",
                 block, block, oc.count, bw, bh, pct(oc.worst).c_str(), wi % bw, wi / bw, bc1[wi], bo1[wi], oc.over,
                 pct(oc.rms).c_str());
+    {  // the five worst blocks and how bright they are: relative noise is largest where the image is dark
+      std::vector<int> order(bo1.size());
+      for (std::size_t i = 0; i < order.size(); ++i) order[i] = int(i);
+      auto mag = [&](int i) { return std::fabs(rel(bo1[i], bc1[i])); };
+      std::partial_sort(order.begin(), order.begin() + std::min<std::size_t>(5, order.size()), order.end(),
+                        [&](int a, int b) { return mag(a) > mag(b); });
+      std::printf("The worst blocks (x, y: |difference|, Cycles' level / the image mean):");
+      for (std::size_t k = 0; k < std::min<std::size_t>(5, order.size()); ++k)
+        std::printf("%s (%d, %d): %s, %.2f", k ? ";" : "", order[k] % bw, order[k] / bw, pct(mag(order[k]), 1).c_str(),
+                    bc1[order[k]] / mc);
+      std::printf(".\n\n");
+    }
     double bias_rms = std::numeric_limits<double>::quiet_NaN(), noise_rms = bias_rms, mean_noise = bias_rms,
            null_worst = bias_rms;
     int null_over = -1;
