@@ -128,7 +128,7 @@ std::string pct(double x, int digits = 2) {
 
 int usage() {
   std::fprintf(stderr,
-               "usage: blender_compare [--block B] [--png OUT.png] [--exposure STOPS] OURS.exr CYCLES.exr "
+               "usage: blender_compare [--block B] [--png OUT.png] [--exposure STOPS] [--dump X Y W H] OURS.exr CYCLES.exr "
                "[OURS_SEED2.exr CYCLES_SEED2.exr]\n");
   return 2;
 }
@@ -139,12 +139,15 @@ int main(int argc, char** argv) {
   int block = 4;
   std::string png;
   float exposure = 0.0f;
+  int dump[4] = {0, 0, 0, 0};  // --dump X Y W H: print both images' pixels there (RGB mean), ours / Cycles
   std::vector<std::string> files;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--block" && i + 1 < argc) block = std::atoi(argv[++i]);
     else if (a == "--png" && i + 1 < argc) png = argv[++i];
     else if (a == "--exposure" && i + 1 < argc) exposure = float(std::atof(argv[++i]));
+    else if (a == "--dump" && i + 4 < argc)
+      for (int k = 0; k < 4; ++k) dump[k] = std::atoi(argv[++i]);
     else if (a.rfind("--", 0) == 0) return usage();
     else files.push_back(a);
   }
@@ -152,6 +155,13 @@ int main(int argc, char** argv) {
   try {
     const bp::ImageRGB o1 = load(files[0]), c1 = load(files[1]);
     same_size(o1, c1, files[0] + " and " + files[1]);
+    for (int y = dump[1]; y < dump[1] + dump[3] && y < o1.height; ++y) {
+      for (int x = dump[0]; x < dump[0] + dump[2] && x < o1.width; ++x) {
+        const float *p = o1.pixel(x, y), *q = c1.pixel(x, y);
+        std::printf(" %.3f/%.3f", (p[0] + p[1] + p[2]) / 3, (q[0] + q[1] + q[2]) / 3);
+      }
+      std::printf("   row %d\n", y);
+    }
     int bw = 0, bh = 0;
     const auto bo1 = block_means(o1, block, &bw, &bh);
     const auto bc1 = block_means(c1, block, &bw, &bh);
