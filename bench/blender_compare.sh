@@ -15,7 +15,7 @@
 # whether or not they meet the issue's bars (2 % image mean, 5 % every 4x4 block).
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
-spp=4096
+spp=8192
 width=160
 height=120
 threads=2
