@@ -113,6 +113,24 @@ TEST(Cli, PointLightSceneRendersLitAndWarnsWhereLightSamplingIsOff) {
   }
 }
 
+// The Blender-made room (sun through a window, point light, textured floor, smooth objects;
+// scenes/blender/make_room.py): both modes render it lit and print no warning, as issue #13 asks
+// of a file from Blender's exporter (bench/blender_compare.sh compares it with Cycles).
+TEST(Cli, BlenderRoomRendersWithoutAWarning) {
+  std::string dir = fresh_dir("blender_room");
+  for (const char* mode : {"--mode pt --spp 4", "--mode combined --ratio 1 --spp 2"}) {
+    CliResult r = run_cli("render " + kScenes + "blender-room.glb --width 16 --height 12 " + std::string(mode) +
+                          " --out " + dir + "/room --stats " + dir + "/s.json");
+    ASSERT_EQ(r.exit_code, 0) << mode << ": " << r.output;
+    EXPECT_EQ(r.output.find("warning"), std::string::npos) << mode << ": " << r.output;
+    nlohmann::json stats = nlohmann::json::parse(std::ifstream(dir + "/s.json"));
+    EXPECT_EQ(stats["lights"], 2) << mode;
+    const ImageRGB image = read_exr(dir + "/room.exr");
+    EXPECT_EQ(image.width, 16);
+    EXPECT_GT(*std::max_element(image.rgb.begin(), image.rgb.end()), 0.1f) << mode;
+  }
+}
+
 // The specialised build (only the features the render uses) draws the same image as the generic one.
 TEST(Cli, SpecialisedKernelsDrawTheGenericImage) {
   std::string dir = fresh_dir("kernel_features");

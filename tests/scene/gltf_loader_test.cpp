@@ -175,6 +175,44 @@ TEST(GltfLoader, BlenderExportWithAPointLight) {
   EXPECT_TRUE(s.warnings.empty()) << s.warnings.front();
 }
 
+// The room that bench/blender_compare.sh renders against Cycles (scenes/blender/make_room.py,
+// exported by Blender 3.4's glTF exporter as scenes/blender-room.glb): a 20 W/m^2 sun (13660 lux)
+// and a 100 W point light in physical units, a floor with an sRGB NEAREST base-colour texture,
+// smooth-shaded meshes, Principled BSDFs with Specular 0 -- all read without a warning, as Blender's
+// importer reads them back (sun lux / 683, point cd * 4 pi / 683 W).
+TEST(GltfLoader, BlenderExportedRoomWithSunPointLightTextureAndSmoothNormals) {
+  const Scene s = load_gltf(test::scene_file("blender-room.glb"));
+  EXPECT_TRUE(s.warnings.empty()) << s.warnings.front();
+  ASSERT_EQ(s.lights.size(), 2u);
+  const ScenePunctualLight* sun = nullptr;
+  const ScenePunctualLight* point = nullptr;
+  for (const ScenePunctualLight& l : s.lights)
+    (l.kind == ScenePunctualLight::Kind::directional ? sun : point) = &l;
+  ASSERT_NE(sun, nullptr);
+  ASSERT_NE(point, nullptr);
+  EXPECT_EQ(point->kind, ScenePunctualLight::Kind::point);
+  expect_vec3_near(sun->intensity, glm::vec3(20.0f), 1e-3f);  // Blender's W/m^2: 13660 lux / 683
+  // Blender's (1, 0.35, -0.75) of travel, z up, is glTF's (1, -0.75, -0.35), y up
+  expect_vec3_near(sun->direction, glm::normalize(glm::vec3(1.0f, -0.75f, -0.35f)), 1e-4f);
+  EXPECT_NEAR(point->intensity.x, 100.0 / (4.0 * M_PI), 1e-3);  // 100 W in every direction, W/sr
+  expect_vec3_near(point->position, {0.9f, 2.3f, 0.6f}, 1e-4f);  // Blender (0.9, -0.6, 2.3)
+  EXPECT_TRUE(s.camera.from_file);
+  EXPECT_TRUE(s.has_shading_normals());
+  int textured = 0;
+  for (const SceneMaterial& m : s.materials) {
+    EXPECT_EQ(m.ks, glm::vec3(0.0f)) << m.name;  // specularColorFactor [0, 0, 0]: Lambert
+    if (!m.textured()) continue;
+    ++textured;
+    EXPECT_EQ(m.name, "floor_tiles");
+    ASSERT_NE(m.textures.base_color, BP_NO_TEXTURE);
+    const TextureView& view = s.texture_views.at(m.textures.base_color);
+    EXPECT_EQ(view.width, 64u);
+    EXPECT_NE(view.flags & BP_TEXTURE_SRGB, 0u);
+    EXPECT_NE(view.flags & BP_TEXTURE_NEAREST, 0u);  // Blender's Closest interpolation
+  }
+  EXPECT_EQ(textured, 1);
+}
+
 // ------------------------------------------------------------------ broken files
 
 struct BadCase {
