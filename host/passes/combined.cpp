@@ -36,8 +36,8 @@ double auto_ratio_pt_time_share(bool eye_direct_pt_alone) {
 }
 
 RoundShape auto_ratio_shape(double pt_seconds_per_spp, double rb_seconds_per_iteration, double pt_time_share) {
-  const double f = pt_time_share;
   const double t_pt = std::max(pt_seconds_per_spp, 1e-9), t_rb = std::max(rb_seconds_per_iteration, 1e-9);
+  const double f = t_rb > t_pt ? std::max(pt_time_share, kAutoRatioPtTimeShareRbCostly) : pt_time_share;
   const double c = f / (1.0 - f) * t_rb / t_pt;
   const int log2_c = std::clamp(int(std::lround(std::log2(c))), -10, 6);
   return round_shape(std::ldexp(1.0, log2_c));

@@ -45,6 +45,12 @@ CombinedWeights combined_weights(std::uint32_t mode, const RoundShape& shape);
 // share to serve all three. `render --help` (cli/options.cpp) quotes these constants.
 constexpr double kAutoRatioPtTimeShareEyeShared = 0.12;
 constexpr double kAutoRatioPtTimeShareEyePt = 0.65;
+// Where one RB iteration costs more than a PT sample of the whole image (t_RB > t_PT: many more
+// patches than pixels, e.g. the 122 000-patch house at 128x128, t_RB/t_PT ≈ 2), RB's transport over
+// every patch buys an image of few pixels, and PT gets at least this share. Measured there at 16 s
+// (bench/results/sweep/, README "The sweep"): c = 64 best, 16 at 0.90-0.94 of it, 4 at about 0.6;
+// 0.95 picks 32. Nowhere else in the sweep is t_RB > t_PT (0.04 to 0.26).
+constexpr double kAutoRatioPtTimeShareRbCostly = 0.95;
 // The share for a render whose eye vertex's direct light is PT's alone (or not).
 double auto_ratio_pt_time_share(bool eye_direct_pt_alone);
 // The probe's timed work: this share of the render's time (--time, or the time --spp / --iterations
@@ -53,7 +59,8 @@ constexpr double kAutoRatioProbeShare = 0.02;
 constexpr double kAutoRatioProbeCapSeconds = 1.5;
 
 // The round --ratio auto renders with, from the measured costs: seconds per PT sample per pixel
-// (whole image) and per RB iteration (eye estimate included). See combined.cpp for the derivation.
+// (whole image) and per RB iteration (eye estimate included), PT getting pt_time_share of the time
+// (at least kAutoRatioPtTimeShareRbCostly where t_RB > t_PT). See combined.cpp for the derivation.
 RoundShape auto_ratio_shape(double pt_seconds_per_spp, double rb_seconds_per_iteration, double pt_time_share);
 
 // PT's probe image: the render's view at about kAutoRatioProbePixels pixels (its own size if

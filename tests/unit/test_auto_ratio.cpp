@@ -13,16 +13,28 @@ TEST(AutoRatio, GivesPtItsShareOfTheTime) {
     for (double t_pt : {1e-4, 3e-3, 0.2})
       for (double t_rb : {1e-4, 2e-3, 0.05}) {
         const RoundShape shape = auto_ratio_shape(t_pt, t_rb, f);
-        const double c = shape.ratio(), exact = f / (1 - f) * t_rb / t_pt;
+        const double share_wanted = t_rb > t_pt ? std::max(f, kAutoRatioPtTimeShareRbCostly) : f;
+        const double c = shape.ratio(), exact = share_wanted / (1 - share_wanted) * t_rb / t_pt;
         EXPECT_EQ(std::exp2(std::round(std::log2(c))), c) << "a power of 2";
         if (exact > 1.0 / 1024 && exact < 64) {
           EXPECT_LE(std::fabs(std::log2(c / exact)), 0.5 + 1e-9) << f << " " << t_pt << " " << t_rb;
           const double share = shape.pt_samples * t_pt / (shape.pt_samples * t_pt + shape.rb_iterations * t_rb);
-          EXPECT_NEAR(share, f, 0.15) << t_pt << " " << t_rb;
+          EXPECT_NEAR(share, share_wanted, 0.15) << t_pt << " " << t_rb;
         }
         EXPECT_EQ(round_shape(c).pt_samples, shape.pt_samples);
         EXPECT_EQ(round_shape(c).rb_iterations, shape.rb_iterations);
       }
+}
+
+// An RB iteration dearer than a PT sample of the whole image: PT gets at least
+// kAutoRatioPtTimeShareRbCostly, whatever the share asked for (the house at 128x128: t_RB/t_PT ≈ 2,
+// c = 0.95/0.05 · 2 = 38 -> 32); one a little cheaper keeps the share asked for.
+TEST(AutoRatio, GivesPtMostOfTheTimeWhereAnRbIterationCostsMoreThanAPtSample) {
+  for (bool pt_alone : {false, true}) {
+    const double f = auto_ratio_pt_time_share(pt_alone);
+    EXPECT_EQ(auto_ratio_shape(0.045, 0.090, f).ratio(), 32.0);
+    EXPECT_EQ(auto_ratio_shape(0.100, 0.090, f).ratio(), std::exp2(std::round(std::log2(f / (1 - f) * 0.9))));
+  }
 }
 
 TEST(AutoRatio, StaysWithinItsRange) {
