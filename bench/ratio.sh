@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Ratio sweep: `--mode combined` (product weights) at fixed ratios c = 4, 1, 1/4, 1/16, 1/64, 1/256 and at
+# Ratio sweep: `--mode combined` (product weights) at fixed ratios c = 64, 16, 4, 1, 1/4, 1/16, 1/64, 1/256 and at
 # `--ratio auto`, on every bench scene and resolution, at wall-time budgets, against the cached PT
 # references of the convergence study. Efficiency 1/(relMSE·t) per setting (t = render_seconds, plus
 # the probe's own seconds for auto: its work is thrown away, so auto pays for it); the table checks
@@ -8,7 +8,7 @@
 # scene and resolution, OUT/ratio-<scene>-<W>x<H>.png.
 #
 # Usage: bench/ratio.sh [--quick] [--out DIR] [--budgets "4 16"] [--resolutions LIST] [--scenes "A B"]
-#                       [--ratios "4 1 1/4 1/16 1/64 1/256 auto"] [--repeats N] [--no-plots]
+#                       [--ratios "64 16 4 1 1/4 1/16 1/64 1/256 auto"] [--repeats N] [--no-plots]
 #   --resolutions LIST WxH separated by commas  [128x128,640x360,1280x720]
 #   --budgets          wall-time budgets in seconds; the efficiency of a setting is the geometric
 #                      mean over them of 1/(relMSE·t)  [4 16]
@@ -26,7 +26,7 @@ SCENES=("${BENCH_STUDY_SCENES[@]}")
 BASE_FLAGS="--mode combined --weights product"
 
 quick=0; repeats=1; out=""; budgets="4 16"; resolutions="128x128,640x360,1280x720"; plots=1
-only_scenes=""; ratios="4 1 1/4 1/16 1/64 1/256 auto"; ref_spp_override=""
+only_scenes=""; ratios="64 16 4 1 1/4 1/16 1/64 1/256 auto"; ref_spp_override=""
 while [ $# -gt 0 ]; do
   case $1 in
     --quick) quick=1 ;;
