@@ -95,7 +95,7 @@ options (defaults in brackets):
                       RB by the four techniques (shared; RB's share from a view-independent
                       proxy of PT's density: smooth, but blurred to RB's patches), PT's alone
                       (pt: unbiased per pixel, noisy at few samples), or auto: shared when
-                      the render gives each pixel fewer than 128 PT samples (from --spp,
+                      the render gives each pixel fewer than 96 PT samples (from --spp,
                       --iterations and --ratio, or for --time from the ratio probe's costs;
                       under --ratio auto, at the c it picks where the light is PT's alone;
                       --resume reuses the saved choice)                       [auto]

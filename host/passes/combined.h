@@ -81,8 +81,10 @@ ProbeImageSize probe_image_size(int width, int height);
 // unbiased but noisy until there are many of them. Measured side by side (README, issue #12): on the
 // Lambert house at 640x360, 30 s, sharing is better at 40 and at 84 PT spp (relMSE 0.0026 against
 // 0.0068, 0.0028 against 0.0040); on cornell-glossy at 128x128, 20 s (300 to 1200 spp) PT alone is
-// better (0.0009 against 0.0028 at about 300 spp, loaded machine).
-constexpr double kEyeDirectSharedBelowSpp = 128.0;
+// better (0.0009 against 0.0028 at about 300 spp, loaded machine); on cornell-glossy at 640x360, 16 s,
+// PT alone at about 110 spp (c = 1/8) reached 0.00188 where sharing (c = 1/128) had 0.0043 (the sweep,
+// README): 128 was too high for it, and 96 still lies above the house's 84.
+constexpr double kEyeDirectSharedBelowSpp = 96.0;
 
 // PT samples per pixel a combined render at ratio c will take: its --spp, its --iterations times c,
 // or what fits in its --time at the probe's costs (0 where nothing bounds it: the default 64 spp).

@@ -1,4 +1,4 @@
-# regenerate: cd /work/main/bench/results/sweep/res-128x128/ratio && gnuplot ratio-rooms-lambert-100000-128x128.gp
+# regenerate: cd /tmp/sweep128/res-128x128/ratio && gnuplot ratio-rooms-lambert-100000-128x128.gp
 set terminal pngcairo size 900,600 font ',11'
 set output 'ratio-rooms-lambert-100000-128x128.png'
 set title "rooms-lambert-100000 at 128x128: combined, product weights" noenhanced
@@ -7,4 +7,4 @@ set xlabel 'render time (s)'
 set ylabel 'relMSE vs reference'
 set grid xtics ytics mxtics mytics
 set key outside right top noenhanced
-plot 'ratio-rooms-lambert-100000-128x128.dat' index 0 with linespoints lw 2 pt 7 title "--ratio 4", 'ratio-rooms-lambert-100000-128x128.dat' index 1 with linespoints lw 2 pt 7 title "--ratio 1", 'ratio-rooms-lambert-100000-128x128.dat' index 2 with linespoints lw 2 pt 7 title "--ratio 1/4", 'ratio-rooms-lambert-100000-128x128.dat' index 3 with linespoints lw 2 pt 7 title "--ratio 1/16", 'ratio-rooms-lambert-100000-128x128.dat' index 4 with linespoints lw 2 pt 7 title "--ratio 1/64", 'ratio-rooms-lambert-100000-128x128.dat' index 5 with linespoints lw 2 pt 7 title "--ratio 1/256", 'ratio-rooms-lambert-100000-128x128.dat' index 6 with linespoints lw 2 pt 7 title "--ratio auto", 0.0587235/x with lines dt 2 lc rgb 'gray40' title "∝ 1/t"
+plot 'ratio-rooms-lambert-100000-128x128.dat' index 0 with linespoints lw 2 pt 7 title "--ratio 64", 'ratio-rooms-lambert-100000-128x128.dat' index 1 with linespoints lw 2 pt 7 title "--ratio 16", 'ratio-rooms-lambert-100000-128x128.dat' index 2 with linespoints lw 2 pt 7 title "--ratio 4", 'ratio-rooms-lambert-100000-128x128.dat' index 3 with linespoints lw 2 pt 7 title "--ratio 1", 'ratio-rooms-lambert-100000-128x128.dat' index 4 with linespoints lw 2 pt 7 title "--ratio 1/4", 'ratio-rooms-lambert-100000-128x128.dat' index 5 with linespoints lw 2 pt 7 title "--ratio 1/16", 'ratio-rooms-lambert-100000-128x128.dat' index 6 with linespoints lw 2 pt 7 title "--ratio 1/64", 'ratio-rooms-lambert-100000-128x128.dat' index 7 with linespoints lw 2 pt 7 title "--ratio 1/256", 'ratio-rooms-lambert-100000-128x128.dat' index 8 with linespoints lw 2 pt 7 title "--ratio auto", 0.0216808/x with lines dt 2 lc rgb 'gray40' title "∝ 1/t"
