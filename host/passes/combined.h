@@ -48,7 +48,7 @@ constexpr double kAutoRatioPtTimeShareEyePt = 0.65;
 // Where one RB iteration costs more than a PT sample of the whole image (t_RB > t_PT: many more
 // patches than pixels, e.g. the 122 000-patch house at 128x128, t_RB/t_PT ≈ 2), RB's transport over
 // every patch buys an image of few pixels, and PT gets at least this share. Measured there at 16 s
-// (bench/results/sweep/, README "The sweep"): c = 64 best, 16 at 0.90-0.94 of it, 4 at about 0.6;
+// (bench/results/sweep/, README "The sweep"): c = 64 best, 16 at 0.94 of it, 4 at 0.70;
 // 0.95 picks 32. Nowhere else in the sweep is t_RB > t_PT (0.04 to 0.26).
 constexpr double kAutoRatioPtTimeShareRbCostly = 0.95;
 // The share for a render whose eye vertex's direct light is PT's alone (or not).
