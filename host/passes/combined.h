@@ -38,11 +38,12 @@ CombinedWeights combined_weights(std::uint32_t mode, const RoundShape& shape);
 // so f ≈ 0.64, and at 20 s c = 1/2 (0.65) gave 0.00035 / 0.00037 against 0.00037 / 0.00041 at c = 1/4
 // (0.5). Where it is shared (few PT samples per pixel: real resolutions, short budgets) RB carries
 // most of the image, and since --rb-level corrected PT's samples are needed mostly for RB's level,
-// which a few samples per pixel of a whole image estimate well. The share at which bench/ratio.sh's
-// best fixed ratio would have been picked, at 640x360 (bench/results/ratio-*-640x360*.md): 0.06 on
-// the Lambert house, 0.19 on cornell-box, 0.15 on cornell-glossy; 0.12 is their geometric mean, and
-// the efficiency curves are flat enough near their best (within 0.85x over a factor 4 in c) for one
-// share to serve all three. `render --help` (cli/options.cpp) quotes these constants.
+// which a few samples per pixel of a whole image estimate well. In the sweep (bench/results/sweep/,
+// README "The sweep") the houses at 640x360 share it and are best at c = 1/64, a PT share of 0.06;
+// 0.12 picks 1/32 there, at 0.91x the best's efficiency (1/16 is at 0.84x), leaving room for scenes
+// less RB-friendly than a Lambert house (a first try with 256-spp references put the boxes at
+// 0.15-0.19; with 1024-spp ones they take the light PT's alone at 640x360). `render --help`
+// (cli/options.cpp) quotes these constants.
 constexpr double kAutoRatioPtTimeShareEyeShared = 0.12;
 constexpr double kAutoRatioPtTimeShareEyePt = 0.65;
 // Where one RB iteration costs more than a PT sample of the whole image (t_RB > t_PT: many more
