@@ -40,7 +40,7 @@ CombinedWeights combined_weights(std::uint32_t mode, const RoundShape& shape);
 // most of the image, and since --rb-level corrected PT's samples are needed mostly for RB's level,
 // which a few samples per pixel of a whole image estimate well. In the sweep (bench/results/sweep/,
 // README "The sweep") the houses at 640x360 share it and are best at c = 1/64, a PT share of 0.06;
-// 0.12 picks 1/32 there, at 0.91x the best's efficiency (1/16 is at 0.84x), leaving room for scenes
+// 0.12 picks 1/32 there, at 0.91x the best's efficiency (1/16 at 0.83-0.85x), leaving room for scenes
 // less RB-friendly than a Lambert house (a first try with 256-spp references put the boxes at
 // 0.15-0.19; with 1024-spp ones they take the light PT's alone at 640x360). `render --help`
 // (cli/options.cpp) quotes these constants.
