@@ -4,6 +4,7 @@
 #include "image/error_estimate.h"
 #include "passes/checkpoint.h"
 #include "passes/render_loop.h"
+#include "estimate_reference.h"
 #include "stats.h"
 
 #include <gtest/gtest.h>
@@ -54,23 +55,9 @@ TEST(ErrorEstimate, IndependentRoundsGiveTheVarianceOfTheMean) {
   // (at the border 3 or 5) neighbours in the image I = sums / rounds, channel by channel.
   ImageRGB image(kWidth, kHeight);
   for (std::size_t i = 0; i < kValues; ++i) image.rgb[i] = float(sums[i] / double(rounds));
-  double expected = 0.0;
-  for (int y = 0; y < kHeight; ++y)
-    for (int x = 0; x < kWidth; ++x)
-      for (int c = 0; c < 3; ++c) {
-        double neighbours = 0.0;
-        int count = 0;
-        for (int ny = std::max(0, y - 1); ny <= std::min(kHeight - 1, y + 1); ++ny)
-          for (int nx = std::max(0, x - 1); nx <= std::min(kWidth - 1, x + 1); ++nx)
-            if (nx != x || ny != y) {
-              neighbours += image.rgb[(std::size_t(ny) * kWidth + nx) * 3 + c];
-              ++count;
-            }
-        const double r = std::min(double(image.rgb[(std::size_t(y) * kWidth + x) * 3 + c]), neighbours / count);
-        expected += var[(std::size_t(y) * kWidth + x) * 3 + c] / (r * r + 0.01);
-      }
-  EXPECT_NEAR(estimate.estimated_rel_mse(image), expected / double(kValues), 1e-9 * expected / double(kValues));
-  EXPECT_NEAR(estimate.estimated_rel_mse(view), expected / double(kValues), 1e-5 * expected / double(kValues));
+  const double expected = estimated_rel_mse_of(image, var);
+  EXPECT_NEAR(estimate.estimated_rel_mse(image), expected, 1e-9 * expected);
+  EXPECT_NEAR(estimate.estimated_rel_mse(view), expected, 1e-5 * expected);
   const ImageRGB se = estimate.standard_error();
   EXPECT_FLOAT_EQ(se.rgb[5], float(std::sqrt(var[5])));
 }
