@@ -22,8 +22,10 @@ namespace {
 
 namespace fs = std::filesystem;
 const std::string kCornell = std::string(BP_SOURCE_DIR) + "/scenes/cornell-box.gltf ";
+// timeout --foreground: without it timeout signals its whole process group, so a SIGINT sent to it
+// reached mpirun twice (itself and the group), and a second SIGINT makes mpirun kill the ranks at once.
 const std::string kTwoRanks = std::string("ASAN_OPTIONS=\"${ASAN_OPTIONS:+$ASAN_OPTIONS:}fast_unwind_on_malloc=0\" ") +
-                              "timeout 300 " + BP_MPIRUN +
+                              "timeout --foreground 300 " + BP_MPIRUN +
                               " --oversubscribe --allow-run-as-root --mca pml ob1 --mca btl self,vader"
                               " --mca btl_vader_single_copy_mechanism none -np 2 ";
 
