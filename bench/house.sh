@@ -6,19 +6,26 @@
 # times with different seeds, against a long path-traced reference (bench/reference.sh, cached).
 # Prints a Markdown table: relMSE (median and each run), the image mean against the reference's,
 # and the work done.
-# Usage: bench/house.sh [SCENE] [SECONDS] [SIZE] [REFERENCE_SPP] [REPEATS]
+# Usage: bench/house.sh [SCENE] [SECONDS] [SIZE] [REFERENCE_SPP] [REPEATS] [-- 'OPTIONS' ...]
 #        defaults: rooms-lambert-100000 30 640x360 1024 2   (REFERENCE_SPP at SIZE, not scaled)
+#        After --: the rows are pt, rb, the default combination and one `--mode combined OPTIONS`
+#        row per argument (e.g. -- '--ratio 64' '--beta balance') instead of the two above.
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 # shellcheck source=bench/lib.sh
 source "$here/lib.sh"
-if [ "${1:-}" = -h ] || [ "${1:-}" = --help ]; then sed -n '2,10p' "$0"; exit 2; fi
+if [ "${1:-}" = -h ] || [ "${1:-}" = --help ]; then sed -n '2,12p' "$0"; exit 2; fi
 cd "$bench_root"
 scene=$(bench_scene "${1:-rooms-lambert-100000}")
 seconds=${2:-30}
 size=${3:-640x360}
 ref_spp=${4:-1024}
 repeats=${5:-2}
+extra_rows=()
+if [ $# -gt 5 ]; then
+  [ "$6" = -- ] || { echo "house.sh: the sixth argument must be --, then one quoted option list per row" >&2; exit 2; }
+  extra_rows=("${@:7}")
+fi
 mapfile -t wh < <(bench_size_args "$size")
 ref=$(bench_reference "$scene" "$ref_spp" "$size")
 tmp=$(mktemp -d)
@@ -51,7 +58,13 @@ echo "|---|---|---|---|---|"
 run "\`--mode pt\`" --mode pt
 run "\`--mode rb\`" --mode rb
 run "\`--mode combined\` (defaults)" --mode combined
-run "\`--mode combined --eye-direct pt\`" --mode combined --eye-direct pt
-run "\`--mode combined --light-selection power\`" --mode combined --light-selection power
+if [ ${#extra_rows[@]} -eq 0 ]; then
+  run "\`--mode combined --eye-direct pt\`" --mode combined --eye-direct pt
+  run "\`--mode combined --light-selection power\`" --mode combined --light-selection power
+fi
+for row in "${extra_rows[@]}"; do
+  read -r -a opts <<<"$row"
+  run "\`--mode combined $row\`" --mode combined "${opts[@]}"
+done
 echo
 echo "(reference: $(basename "$ref"), $ref_spp spp; $("$BUNDLEPATH" devices 2>/dev/null | head -1))"
