@@ -108,7 +108,7 @@ options (defaults in brackets):
                       at about 128x128 pixels, scaled) and RB's per iteration, and picks c,
                       a power of 2, so that PT gets about 12 % of the time (65 % where
                       the eye vertex's direct light is PT's alone: --eye-direct pt, or auto
-                      resolved to pt; at least 95 % where one RB iteration costs more than a
+                      resolved to pt; at least 98 % where one RB iteration costs more than a
                       PT sample of the whole image); --spp or --iterations then fixes the other count
                       from that c. The chosen c is
                       printed and in --stats; give it as --ratio for a reproducible image.

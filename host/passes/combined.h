@@ -49,9 +49,12 @@ constexpr double kAutoRatioPtTimeShareEyePt = 0.65;
 // Where one RB iteration costs more than a PT sample of the whole image (t_RB > t_PT: many more
 // patches than pixels, e.g. the 122 000-patch house at 128x128, t_RB/t_PT ≈ 2), RB's transport over
 // every patch buys an image of few pixels, and PT gets at least this share. Measured there at 16 s
-// (bench/results/sweep/, README "The sweep"): c = 64 best, 16 at 0.94 of it, 4 at 0.70;
-// 0.95 picks 32. Nowhere else in the sweep is t_RB > t_PT (0.04 to 0.26).
-constexpr double kAutoRatioPtTimeShareRbCostly = 0.95;
+// (bench/results/sweep/, README "The sweep"): c = 64 best, 16 at 0.94 of it, 4 at 0.70; four seeds
+// each on a second machine (bench/results/house-128-repeats.md): c = 32 does 320 spp where PT alone
+// does 384 and is 1.19x its relMSE, c = 64 ties it at equal spp. RB's few iterations add nothing
+// there, and its cost is what the ratio can shrink: 0.98 picks 64 (the largest c) wherever
+// t_RB > t_PT. Nowhere else in the sweep is t_RB > t_PT (0.04 to 0.26).
+constexpr double kAutoRatioPtTimeShareRbCostly = 0.98;
 // The share for a render whose eye vertex's direct light is PT's alone (or not).
 double auto_ratio_pt_time_share(bool eye_direct_pt_alone);
 // The probe's timed work: this share of the render's time (--time, or the time --spp / --iterations

@@ -28,11 +28,12 @@ TEST(AutoRatio, GivesPtItsShareOfTheTime) {
 
 // An RB iteration dearer than a PT sample of the whole image: PT gets at least
 // kAutoRatioPtTimeShareRbCostly, whatever the share asked for (the house at 128x128: t_RB/t_PT ≈ 2,
-// c = 0.95/0.05 · 2 = 38 -> 32); one a little cheaper keeps the share asked for.
+// c = 0.98/0.02 · 2 = 98 -> 64, the largest); one a little cheaper keeps the share asked for.
 TEST(AutoRatio, GivesPtMostOfTheTimeWhereAnRbIterationCostsMoreThanAPtSample) {
   for (bool pt_alone : {false, true}) {
     const double f = auto_ratio_pt_time_share(pt_alone);
-    EXPECT_EQ(auto_ratio_shape(0.045, 0.090, f).ratio(), 32.0);
+    EXPECT_EQ(auto_ratio_shape(0.045, 0.090, f).ratio(), 64.0);
+    EXPECT_EQ(auto_ratio_shape(0.090, 0.095, f).ratio(), 64.0);  // just dearer: 0.98/0.02 · 1.06 = 52 -> 64
     EXPECT_EQ(auto_ratio_shape(0.100, 0.090, f).ratio(), std::exp2(std::round(std::log2(f / (1 - f) * 0.9))));
   }
 }
