@@ -97,7 +97,7 @@ std::vector<T> at_least_one(std::vector<T> v) {
 
 DeviceScene::DeviceScene(const DeviceContext& device, const Scene& scene, const PatchLayout& patches,
                          const FlatBvh& bvh, std::uint32_t selection) {
-  LightList light_list = build_light_list(scene);
+  LightList light_list = build_light_list(scene, bvh);
   light_selection = selection;
   ray_epsilon = ray_epsilon_for(scene.bounds);
   std::vector<LightTreeNode> tree_in;

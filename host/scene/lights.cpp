@@ -1,5 +1,6 @@
 #include "scene/lights.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace bp {
@@ -15,7 +16,33 @@ void store3(float* out, const glm::vec3& v) {
 
 }  // namespace
 
-LightList build_light_list(const Scene& scene) {
+double sunlit_area(const Scene& scene, const FlatBvh& bvh, const glm::vec3& axis, int grid) {
+  const glm::vec3 dir = glm::normalize(axis);
+  const float radius = 0.5f * glm::length(scene.bounds.extent());
+  if (!(radius > 0.0f) || scene.triangles.empty() || bvh.nodes.empty() || grid < 1) return 0.0;
+  // An orthonormal frame (u, v) of the plane across the light, the disk's centre 2 radii upstream.
+  const glm::vec3 helper = std::abs(dir.x) < 0.9f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
+  const glm::vec3 u = glm::normalize(glm::cross(dir, helper)), v = glm::cross(dir, u);
+  const glm::vec3 start = scene.bounds.centre() - 2.0f * radius * dir;
+  const double cell = 2.0 * double(radius) / grid;
+  std::uint64_t lit = 0;
+  for (int j = 0; j < grid; ++j)
+    for (int i = 0; i < grid; ++i) {
+      const float x = float(-radius + (i + 0.5) * cell), y = float(-radius + (j + 0.5) * cell);
+      if (x * x + y * y > radius * radius) continue;
+      const glm::vec3 o = start + x * u + y * v;
+      Hit hit;
+      if (!bvh_closest_hit(bvh.nodes.data(), bvh.triangles.data(), make_float3(o.x, o.y, o.z),
+                           make_float3(dir.x, dir.y, dir.z), BP_FLOAT_MAX, &hit))
+        continue;
+      const SceneTriangle& t = scene.triangles[hit.triangle];
+      const glm::vec3 front = glm::cross(t.p[1] - t.p[0], t.p[2] - t.p[0]);  // counter-clockwise = front
+      if (glm::dot(front, dir) < 0.0f || scene.materials[t.material].double_sided) ++lit;
+    }
+  return double(lit) * cell * cell;
+}
+
+LightList build_light_list(const Scene& scene, const FlatBvh& bvh) {
   LightList out;
   std::vector<double> power;
   // Emitted power per unit area of each material: pi Le per side.
@@ -59,7 +86,11 @@ LightList build_light_list(const Scene& scene) {
     double solid_angle = 4.0 * M_PI;
     if (p.kind == ScenePunctualLight::Kind::directional) {
       l.type = BP_LIGHT_DIRECTIONAL;
-      solid_angle = M_PI * scene_radius * scene_radius;  // not a solid angle: the area E falls on (a heuristic)
+      // Not a solid angle: the area, across the light, of what the sun falls on first (a
+      // heuristic: a room lit through a window gets the window's share, not the whole roof's), at
+      // least one grid cell's, so a sun that the grid finds nowhere is still chosen now and then.
+      const double disk = M_PI * scene_radius * scene_radius, cell = disk / (kSunlitGrid * kSunlitGrid);
+      solid_angle = std::max(sunlit_area(scene, bvh, p.direction, kSunlitGrid), cell);
     } else if (p.kind == ScenePunctualLight::Kind::spot) {
       l.type = BP_LIGHT_SPOT;
       // the cone out to the middle of the falloff: a selection heuristic, not part of the estimate

@@ -1,6 +1,7 @@
 // The lights that light sampling chooses from (kernels/shared/lights.h), with their power.
 #pragma once
 #include "kernels/shared/lights.h"
+#include "scene/bvh.h"
 #include "scene/scene.h"
 #include <vector>
 
@@ -16,9 +17,19 @@ struct LightList {
 };
 
 // Power of each light (Le pi A per emitting side; 4 pi I for a point; the cone's solid angle times
-// I for a spot; E pi r^2 for a directional light, what crosses the scene's bounding sphere; pi r^2
-// times the integral of its radiance for the environment, what enters that sphere), and the
-// list with its selection cdf. Empty when nothing emits.
-LightList build_light_list(const Scene& scene);
+// I for a spot; E times sunlit_area for a directional light; pi r^2 times the integral of its
+// radiance for the environment, what enters the scene's bounding sphere), and the list with its
+// selection cdf. Empty when nothing emits. The powers only choose lights (select_probability, the
+// light tree): any positive value keeps the estimate unbiased.
+LightList build_light_list(const Scene& scene, const FlatBvh& bvh);
+
+// The grid of sunlit_area's rays across the scene's bounding disk, per side.
+constexpr int kSunlitGrid = 256;
+
+// The area across a directional light travelling along `axis` whose rays first meet a surface's
+// front (or a double-sided surface): a grid x grid lattice of parallel rays over the disk of the
+// scene's bounding sphere, each cell counted where its centre's ray is. Off by at most one cell
+// along each edge of what is lit (the cell is the disk's diameter / grid on a side).
+double sunlit_area(const Scene& scene, const FlatBvh& bvh, const glm::vec3& axis, int grid);
 
 }  // namespace bp

@@ -94,7 +94,7 @@ TEST(DirectionalLight, SelectionProbabilitiesSumToOneBesideTheTree) {
   scene.materials.push_back(lamp);
   scene.triangles.push_back({{{-0.2f, 0.8f, -0.2f}, {0.2f, 0.8f, 0.2f}, {-0.2f, 0.8f, 0.2f}}, 1});  // facing down
   for (const glm::vec3& p : scene.triangles.back().p) scene.bounds.grow(p);
-  LightList list = build_light_list(scene);
+  LightList list = build_light_list(scene, build_bvh(scene.triangles));
   ASSERT_EQ(list.lights.size(), 3u);
   EXPECT_EQ(list.lights.back().type, BP_LIGHT_DIRECTIONAL);  // directional lights last
   const PatchLayout patches = build_patch_layout(scene, 0.5f);

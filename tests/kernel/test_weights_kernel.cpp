@@ -197,7 +197,7 @@ LightConnections make_environment_connections(std::uint32_t count, std::uint32_t
   ScenePunctualLight sun;
   sun.kind = ScenePunctualLight::Kind::directional;
   scene.lights = {sun};
-  const LightList list = build_light_list(scene);
+  const LightList list = build_light_list(scene, build_bvh(scene.triangles));
   const std::vector<float> packed = pack_environment(sky);
   LightSet set = light_set(list.lights.data(), list.cdf.data(), nullptr, nullptr, std::uint32_t(list.lights.size()),
                            BP_LIGHT_SELECTION_POWER);

@@ -29,7 +29,7 @@ struct EnvironmentScene {
       sun.intensity = glm::vec3(2.0f);
       scene.lights = {sun};
     }
-    list = build_light_list(scene);
+    list = build_light_list(scene, build_bvh(scene.triangles));
     packed = pack_environment(*scene.environment_image);
     set = light_set(list.lights.data(), list.cdf.data(), nullptr, nullptr, std::uint32_t(list.lights.size()),
                     BP_LIGHT_SELECTION_POWER);
@@ -43,9 +43,10 @@ TEST(EnvironmentLight, IsTheLastLightChosenByTheRadianceEnteringTheScene) {
   EXPECT_EQ(s.list.environment_light, 1u);
   EXPECT_EQ(s.list.lights[1].type, BP_LIGHT_ENVIRONMENT);
   EXPECT_TRUE(light_is_infinite(s.list.lights[1].type));
-  // pi R^2 times the integral of the mean radiance, against the sun's E pi R^2
+  // pi R^2 times the integral of the mean radiance, against the sun's E times what it falls on:
+  // nothing in this empty scene, so one cell of sunlit_area's lattice (lights.h)
   const double radius = std::sqrt(3.0), env = M_PI * radius * radius * environment_integral(*s.scene.environment_image);
-  const double sun = M_PI * radius * radius * 2.0;
+  const double sun = M_PI * radius * radius / (double(kSunlitGrid) * kSunlitGrid) * 2.0;
   EXPECT_NEAR(s.list.lights[1].select_probability, env / (env + sun), 1e-5);
   bp_u32 first = 0u;
   EXPECT_NEAR(light_directional_share(&s.set, &first), 1.0f, 1e-6f);

@@ -29,7 +29,7 @@ struct TreeRig {
 
   TreeRig(Scene s, float patch_size) : scene(std::move(s)) {
     patches = build_patch_layout(scene, patch_size);
-    list = build_light_list(scene);
+    list = build_light_list(scene, build_bvh(scene.triangles));
     nodes = build_light_tree(list, scene, 1e-5f);
     receivers = build_light_receivers(scene, patches, list, 1e-5f);
   }
@@ -382,7 +382,7 @@ TEST(LightTree, DepthStaysWithinTheTrailBitsForManyLights) {
   }
   for (const SceneTriangle& t : s.triangles)
     for (const glm::vec3& p : t.p) s.bounds.grow(p);
-  LightList list = build_light_list(s);
+  LightList list = build_light_list(s, build_bvh(s.triangles));
   std::vector<LightTreeNode> nodes = build_light_tree(list, s, 1e-6f);
   std::uint32_t deepest = 0;
   for (const Light& l : list.lights) deepest = std::max(deepest, l.tree_depth);

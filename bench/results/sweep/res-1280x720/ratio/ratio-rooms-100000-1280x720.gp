@@ -1,0 +1,10 @@
+# regenerate: cd /tmp/sweep1280/res-1280x720/ratio && gnuplot ratio-rooms-100000-1280x720.gp
+set terminal pngcairo size 900,600 font ',11'
+set output 'ratio-rooms-100000-1280x720.png'
+set title "rooms-100000 at 1280x720: combined, product weights" noenhanced
+set logscale xy
+set xlabel 'render time (s)'
+set ylabel 'relMSE vs reference'
+set grid xtics ytics mxtics mytics
+set key outside right top noenhanced
+plot 'ratio-rooms-100000-1280x720.dat' index 0 with linespoints lw 2 pt 7 title "--ratio 64", 'ratio-rooms-100000-1280x720.dat' index 1 with linespoints lw 2 pt 7 title "--ratio 16", 'ratio-rooms-100000-1280x720.dat' index 2 with linespoints lw 2 pt 7 title "--ratio 4", 'ratio-rooms-100000-1280x720.dat' index 3 with linespoints lw 2 pt 7 title "--ratio 1", 'ratio-rooms-100000-1280x720.dat' index 4 with linespoints lw 2 pt 7 title "--ratio 1/4", 'ratio-rooms-100000-1280x720.dat' index 5 with linespoints lw 2 pt 7 title "--ratio 1/16", 'ratio-rooms-100000-1280x720.dat' index 6 with linespoints lw 2 pt 7 title "--ratio 1/64", 'ratio-rooms-100000-1280x720.dat' index 7 with linespoints lw 2 pt 7 title "--ratio 1/256", 'ratio-rooms-100000-1280x720.dat' index 8 with linespoints lw 2 pt 7 title "--ratio auto", 3.2689/x with lines dt 2 lc rgb 'gray40' title "∝ 1/t"
