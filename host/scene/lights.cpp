@@ -89,8 +89,8 @@ LightList build_light_list(const Scene& scene, const FlatBvh& bvh) {
       // Not a solid angle: the area, across the light, of what the sun falls on first (a
       // heuristic: a room lit through a window gets the window's share, not the whole roof's), at
       // least one grid cell's, so a sun that the grid finds nowhere is still chosen now and then.
-      const double disk = M_PI * scene_radius * scene_radius, cell = disk / (kSunlitGrid * kSunlitGrid);
-      solid_angle = std::max(sunlit_area(scene, bvh, p.direction, kSunlitGrid), cell);
+      const double cell_side = 2.0 * scene_radius / kSunlitGrid;
+      solid_angle = std::max(sunlit_area(scene, bvh, p.direction, kSunlitGrid), cell_side * cell_side);
     } else if (p.kind == ScenePunctualLight::Kind::spot) {
       l.type = BP_LIGHT_SPOT;
       // the cone out to the middle of the falloff: a selection heuristic, not part of the estimate

@@ -46,7 +46,8 @@ double block_mean(const ImageRGB& image, int x, int y, int c) {
 double min_continuation(const Scene& scene) {
   const PatchLayout patches = build_patch_layout(scene, default_patch_size(scene));
   double s = 1.0;
-  for (const Material& m : patch_mean_materials(scene, patches, pack_materials(scene, build_light_list(scene, build_bvh(scene.triangles)))))
+  const LightList lights = build_light_list(scene, build_bvh(scene.triangles));
+  for (const Material& m : patch_mean_materials(scene, patches, pack_materials(scene, lights)))
     s = std::min(s, double(std::max({m.kd[0] + m.ks[0], m.kd[1] + m.ks[1], m.kd[2] + m.ks[2]})));
   return s;
 }

@@ -46,7 +46,7 @@ TEST(EnvironmentLight, IsTheLastLightChosenByTheRadianceEnteringTheScene) {
   // pi R^2 times the integral of the mean radiance, against the sun's E times what it falls on:
   // nothing in this empty scene, so one cell of sunlit_area's lattice (lights.h)
   const double radius = std::sqrt(3.0), env = M_PI * radius * radius * environment_integral(*s.scene.environment_image);
-  const double sun = M_PI * radius * radius / (double(kSunlitGrid) * kSunlitGrid) * 2.0;
+  const double cell_side = 2.0 * radius / kSunlitGrid, sun = cell_side * cell_side * 2.0;
   EXPECT_NEAR(s.list.lights[1].select_probability, env / (env + sun), 1e-5);
   bp_u32 first = 0u;
   EXPECT_NEAR(light_directional_share(&s.set, &first), 1.0f, 1e-6f);
