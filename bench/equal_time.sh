@@ -35,7 +35,7 @@ s = json.load(open(sys.argv[2]))
 m = s["reference"]["layers"]["combined"]
 work = f"{s['spp']} spp" + (f" + {s['iterations']} it" if s.get("iterations") else "")
 if "ratio_auto" in s:
-    c = s["ratio"]
+    c = float(s["ratio"])  # "inf": the path tracer alone
     work += f" (auto: c = {c:g})" if c >= 1 else f" (auto: c = 1/{1 / c:g})"
 print(f"| {sys.argv[1]} | {work} | {m['rel_mse']:.5f} | {m['rmse']:.4f} | {m['mean_bias']:+.4f} | {1/(m['rel_mse']*s['render_seconds']):.1f} |")
 PY

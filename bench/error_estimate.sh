@@ -70,8 +70,8 @@ if mode == "pt":
 elif mode == "rb":
     print("--iterations"); print(s["iterations"])
 else:
-    c = s["ratio"]
-    print("--ratio"); print(f"{round(c)}" if c >= 1 else f"1/{round(1 / c)}")
+    c = float(s["ratio"])  # "inf": auto chose the path tracer alone, and chooses it again at these counts
+    print("--ratio"); print("auto" if c == float("inf") else f"{round(c)}" if c >= 1 else f"1/{round(1 / c)}")
     print("--spp"); print(s["spp"])
     if "eye_direct" in s:
         print("--eye-direct"); print(s["eye_direct"])

@@ -47,7 +47,7 @@ bias = [s["reference"]["layers"]["combined"]["relative_bias"] for s in runs]
 s = runs[0]
 work = f"{s['spp']} spp" + (f" + {s['iterations']} it" if s.get("iterations") else "")
 if "ratio_auto" in s:
-    c = s["ratio"]
+    c = float(s["ratio"])  # "inf": the path tracer alone
     work += f" (c = {c:g})" if c >= 1 else f" (c = 1/{1 / c:g})"
 mean_dev = " / ".join(f"{100 * b:+.2f} %" for b in bias)
 print(f"| {label} | {work} | {statistics.median(rel):.3g} | {' / '.join(f'{x:.3g}' for x in rel)} | {mean_dev} |")

@@ -364,9 +364,20 @@ def ratio_efficiency(r):
     return 1.0 / (float(r["rel_mse"]) * (float(r["render_seconds"]) + (fnum(r.get("probe_seconds")) or 0.0)))
 
 
+def ratio_num(x):
+    """c from the stats: a number, or "inf" where --ratio auto chose the path tracer alone."""
+    try:
+        v = float(x)
+        return v if v > 0 else None
+    except (TypeError, ValueError):
+        return None
+
+
 def ratio_text(c):
     if c is None:
         return "–"
+    if math.isinf(c):
+        return "∞ (PT alone)"
     return f"{c:g}" if c >= 1 else f"1/{1 / c:g}"
 
 
@@ -396,7 +407,7 @@ def cmd_ratio(args):
                 pts = {float(r["budget_s"]): r for r in srows if r["setting"] == setting}
                 if pts and all(b in pts for b in budgets):
                     eff[setting] = math.exp(sum(math.log(ratio_efficiency(pts[b])) for b in budgets) / len(budgets))
-                used[setting] = sorted({fnum(r["ratio"]) for r in pts.values() if fnum(r["ratio"])}, reverse=True)
+                used[setting] = sorted({ratio_num(r["ratio"]) for r in pts.values() if ratio_num(r["ratio"])}, reverse=True)
             fixed = {k: v for k, v in eff.items() if k != "auto"}
             best = max(fixed, key=fixed.get) if fixed else None
             md.append(f"**{scene}** at {size} (reference {srows[0]['reference_spp']} spp)")
@@ -530,7 +541,7 @@ def cmd_check(args):
             continue
         d = dict(zip(COLUMNS[study], r))
         for k, v in d.items():
-            if k in NUMERIC and v != "" and fnum(v) is None:
+            if k in NUMERIC and v != "" and fnum(v) is None and not (k == "ratio" and ratio_num(v)):  # "inf": PT alone
                 errors.append(f"line {n}: {k}={v!r} is not a finite number")
         if d.get("status") == "ok":
             ok += 1
@@ -591,7 +602,7 @@ def cmd_modes(args):
         pt, rb, comb = median(pt), median(rb), median(comb)
         better = min(x for x in (pt, rb) if x is not None) if (pt or rb) else None
         q = comb / better if comb and better else None
-        chosen = sorted({fnum(r["ratio"]) for r in r_rows if r["setting"] == "auto" and fnum(r.get("ratio"))})
+        chosen = sorted({ratio_num(r["ratio"]) for r in r_rows if r["setting"] == "auto" and ratio_num(r.get("ratio"))})
         eff = {}
         for r in r_rows:
             if float(r["budget_s"]) == budget:

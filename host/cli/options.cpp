@@ -64,7 +64,8 @@ options (defaults in brackets):
   --iterations N      ray-bundle iterations (rb, combined)     [rb: 1000, unless --time is given]
                       combined: give --spp, --iterations or --time; the other count follows
                       from --ratio                             [combined: 64 spp]
-  --time SECONDS      stop after this much rendering time; with --spp, whichever comes first
+  --time SECONDS      stop after this much rendering time; with --spp, whichever comes first.
+                      A render stops between batches, at the batch end nearest SECONDS
   --target-error X    render until the estimated relMSE (below) is at most X, a number > 0;
                       with --time as a cap, whichever comes first; not with --spp or
                       --iterations. Checked after each batch once 8 batches are done; the
@@ -108,10 +109,13 @@ options (defaults in brackets):
                       at about 128x128 pixels, scaled) and RB's per iteration, and picks c,
                       a power of 2, so that PT gets about 12 % of the time (65 % where
                       the eye vertex's direct light is PT's alone: --eye-direct pt, or auto
-                      resolved to pt; at least 98 % where one RB iteration costs more than a
-                      PT sample of the whole image); --spp or --iterations then fixes the other count
-                      from that c. The chosen c is
-                      printed and in --stats; give it as --ratio for a reproducible image.
+                      resolved to pt), and a round (N1 PT samples + N2 RB iterations) that
+                      fits in --time. Where one RB iteration costs more than a PT sample of
+                      the whole image (many more patches than pixels) it picks the path
+                      tracer alone (c = inf, printed; "inf" in --stats), unless --iterations
+                      is given (then PT gets at least 98 % of the time). --spp or --iterations
+                      then fixes the other count from that c. The chosen c is printed and in
+                      --stats; give it as --ratio for a reproducible image (inf: --mode pt).
                       --resume reuses the saved c
   --no-light-sampling turn light sampling off: emitters are then reached by BSDF sampling (pt)
                       and bundles (rb) only, as in the paper. Light sampling (next-event

@@ -20,6 +20,7 @@ RoundShape round_shape(double c) {
 
 CombinedWeights combined_weights(std::uint32_t mode, const RoundShape& shape) {
   if (shape.pt_samples == 0) return CombinedWeights{BP_WEIGHTS_NONE, 1.0f};
+  if (shape.pt_alone()) return CombinedWeights{BP_WEIGHTS_NONE, 0.0f};
   return CombinedWeights{mode, float(1.0 / shape.ratio())};
 }
 
@@ -35,12 +36,22 @@ double auto_ratio_pt_time_share(bool eye_direct_pt_alone) {
   return eye_direct_pt_alone ? kAutoRatioPtTimeShareEyePt : kAutoRatioPtTimeShareEyeShared;
 }
 
-RoundShape auto_ratio_shape(double pt_seconds_per_spp, double rb_seconds_per_iteration, double pt_time_share) {
+RoundShape auto_ratio_shape(double pt_seconds_per_spp, double rb_seconds_per_iteration, double pt_time_share,
+                            const AutoRatioBounds& bounds) {
   const double t_pt = std::max(pt_seconds_per_spp, 1e-9), t_rb = std::max(rb_seconds_per_iteration, 1e-9);
+  if (t_rb > t_pt && bounds.pt_alone_allowed) return RoundShape{1, 0};
   const double f = t_rb > t_pt ? std::max(pt_time_share, kAutoRatioPtTimeShareRbCostly) : pt_time_share;
   const double c = f / (1.0 - f) * t_rb / t_pt;
   const int log2_c = std::clamp(int(std::lround(std::log2(c))), -10, 6);
-  return round_shape(std::ldexp(1.0, log2_c));
+  RoundShape shape = round_shape(std::ldexp(1.0, log2_c));
+  // A round is N1 t_PT + N2 t_RB; one that does not fit the --time is halved (N2 first: the larger).
+  const auto round_seconds = [&] { return shape.pt_samples * t_pt + shape.rb_iterations * t_rb; };
+  while (bounds.round_seconds > 0.0 && round_seconds() > bounds.round_seconds &&
+         (shape.rb_iterations > 1 || shape.pt_samples > 1)) {
+    if (shape.rb_iterations > 1) shape.rb_iterations /= 2;
+    else shape.pt_samples /= 2;
+  }
+  return shape;
 }
 
 double expected_pt_spp(const RoundShape& shape, std::uint64_t spp, std::uint64_t iterations, double seconds,
@@ -48,6 +59,10 @@ double expected_pt_spp(const RoundShape& shape, std::uint64_t spp, std::uint64_t
   const double c = shape.ratio();
   double expected = 1e300;
   if (spp) expected = std::min(expected, double(spp));
+  if (shape.pt_alone()) {  // PT alone: every second is PT's
+    if (seconds > 0.0 && pt_seconds_per_spp > 0.0) expected = std::min(expected, seconds / pt_seconds_per_spp);
+    return expected == 1e300 ? 64.0 : expected;
+  }
   if (iterations) expected = std::min(expected, double(iterations) * c);
   // A second holds N1 t_PT + N2 t_RB per round of N1 = c N2: c / (c t_PT + t_RB) samples per pixel.
   if (seconds > 0.0 && pt_seconds_per_spp + rb_seconds_per_iteration > 0.0)
@@ -107,9 +122,10 @@ RatioProbe probe_ratio(PathTracerPass& probe_pt, std::size_t pixels, RayBundlePa
   time_until(0.0, 1, 1, rb_step, &rb_seconds, &rb_count);
   const double pt_scale = double(pixels) / (double(probe_pt.pixel_width()) * probe_pt.pixel_height());
   // The probe's size: a share of the render's time, estimated from these two when only a count is given.
+  const AutoRatioBounds bounds{budget.seconds, budget.iterations == 0};
   double render_seconds = budget.seconds > 0.0 ? budget.seconds : 1e30;
   if (budget.spp || budget.iterations) {
-    const RoundShape first_guess = auto_ratio_shape(pt_seconds * pt_scale, rb_seconds, budget.pt_time_share);
+    const RoundShape first_guess = auto_ratio_shape(pt_seconds * pt_scale, rb_seconds, budget.pt_time_share, bounds);
     const double rounds = budget.spp ? std::ceil(double(budget.spp) / first_guess.pt_samples)
                                      : std::ceil(double(budget.iterations) / first_guess.rb_iterations);
     render_seconds = std::min(render_seconds, rounds * (first_guess.pt_samples * pt_seconds * pt_scale +
@@ -128,7 +144,9 @@ RatioProbe probe_ratio(PathTracerPass& probe_pt, std::size_t pixels, RayBundlePa
   probe.rb_iterations = std::uint32_t(rb_count);
   probe.pt_image = ProbeImageSize{int(probe_pt.pixel_width()), int(probe_pt.pixel_height())};
   probe.pt_time_share = budget.pt_time_share;
-  probe.chosen = auto_ratio_shape(probe.pt_seconds_per_spp, probe.rb_seconds_per_iteration, budget.pt_time_share);
+  probe.bounds = bounds;
+  probe.chosen =
+      auto_ratio_shape(probe.pt_seconds_per_spp, probe.rb_seconds_per_iteration, budget.pt_time_share, bounds);
   probe.probe_seconds = seconds_since(start);
   probe.first_launch_seconds = first_launch_seconds;
   return probe;
@@ -143,11 +161,12 @@ BatchCounts CombinedPass::run(std::uint64_t first, std::uint32_t count) {
     total += pt_.run(s, std::uint32_t(next - s));
     s = next;
   }
-  total += rb_.run(first * shape_.rb_iterations, count * shape_.rb_iterations);
+  if (!shape_.pt_alone()) total += rb_.run(first * shape_.rb_iterations, count * shape_.rb_iterations);
   return total;
 }
 
 std::uint32_t CombinedPass::max_batch() const {
+  if (shape_.pt_alone()) return std::max<std::uint32_t>(1, pt_.max_batch() / shape_.pt_samples);
   const std::uint32_t rb = rb_.max_batch() / shape_.rb_iterations;
   if (shape_.pt_samples == 0) return std::max<std::uint32_t>(1, rb);
   return std::max<std::uint32_t>(1, std::min(pt_.max_batch() / shape_.pt_samples, rb));

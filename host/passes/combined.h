@@ -4,15 +4,18 @@
 #pragma once
 #include "passes/path_tracer.h"
 #include "passes/ray_bundles.h"
+#include <cmath>
 
 namespace bp {
 
 // One round: pt_samples samples per pixel and rb_iterations iterations; c = pt_samples / rb_iterations.
-// pt_samples = 0 (c = 0) is ray bundles alone.
+// pt_samples = 0 (c = 0) is ray bundles alone; rb_iterations = 0 (c = ∞) the path tracer alone, which
+// only --ratio auto chooses (auto_ratio_shape).
 struct RoundShape {
   std::uint32_t pt_samples = 1;
   std::uint32_t rb_iterations = 1;
-  double ratio() const { return double(pt_samples) / double(rb_iterations); }  // c = N1 / N2
+  double ratio() const { return rb_iterations ? double(pt_samples) / double(rb_iterations) : INFINITY; }  // c = N1 / N2
+  bool pt_alone() const { return rb_iterations == 0; }
 };
 
 // The smallest integer round whose ratio is c (within 1 %): c >= 1 gives (round(c), 1), c < 1 gives
@@ -23,7 +26,8 @@ RoundShape round_shape(double c);
 // The weight mode and N2 / N1 that both passes get for `mode` (BP_WEIGHTS_*) at this round shape.
 // With no PT samples (c = 0) every weight is trivially w_RB = 1 (product: β = N2 / (N2 + 0·…) = 1;
 // paper: N2 / (0·P* + N2) = 1), so RB runs unweighted (BP_WEIGHTS_NONE): passing N2 / N1 = ∞ to the
-// kernels would make β = ∞ / (∞ + p) a NaN.
+// kernels would make β = ∞ / (∞ + p) a NaN. With no RB iterations (c = ∞) every weight is w_PT = 1:
+// PT runs unweighted, as --mode pt.
 struct CombinedWeights {
   std::uint32_t mode = BP_WEIGHTS_NONE;
   float ratio_n2_over_n1 = 1.0f;
@@ -52,8 +56,9 @@ constexpr double kAutoRatioPtTimeShareEyePt = 0.65;
 // (bench/results/sweep/, README "The sweep"): c = 64 best, 16 at 0.94 of it, 4 at 0.70; four seeds
 // each on a second machine (bench/results/house-128-repeats.md): c = 32 does 320 spp where PT alone
 // does 384 and is 1.19x its relMSE, c = 64 ties it at equal spp. RB's few iterations add nothing
-// there, and its cost is what the ratio can shrink: 0.98 picks 64 (the largest c) wherever
-// t_RB > t_PT. Nowhere else in the sweep is t_RB > t_PT (0.04 to 0.26).
+// there, and its cost is what the ratio can shrink: where it may, auto chooses PT alone (c = ∞) wherever
+// t_RB > t_PT; where the render counts RB iterations (--iterations) it may not, and 0.98 picks 64 (the
+// largest finite c). Nowhere else in the sweep is t_RB > t_PT (0.04 to 0.26).
 constexpr double kAutoRatioPtTimeShareRbCostly = 0.98;
 // The share for a render whose eye vertex's direct light is PT's alone (or not).
 double auto_ratio_pt_time_share(bool eye_direct_pt_alone);
@@ -62,10 +67,21 @@ double auto_ratio_pt_time_share(bool eye_direct_pt_alone);
 constexpr double kAutoRatioProbeShare = 0.02;
 constexpr double kAutoRatioProbeCapSeconds = 1.5;
 
+// What bounds the round --ratio auto may choose. A render stops between rounds, so a round longer
+// than its --time overshoots it (the Phong house at 1280x720: t_PT = 3 s, t_RB = 0.2 s, c = 1/128 is a
+// 29 s round for a 16 s budget): the round is shrunk (N2, else N1, halved) until it fits
+// round_seconds. PT alone only where the render does not count RB iterations.
+struct AutoRatioBounds {
+  double round_seconds = 0.0;  // the render's --time; 0: none
+  bool pt_alone_allowed = true;
+};
+
 // The round --ratio auto renders with, from the measured costs: seconds per PT sample per pixel
 // (whole image) and per RB iteration (eye estimate included), PT getting pt_time_share of the time
-// (at least kAutoRatioPtTimeShareRbCostly where t_RB > t_PT). See combined.cpp for the derivation.
-RoundShape auto_ratio_shape(double pt_seconds_per_spp, double rb_seconds_per_iteration, double pt_time_share);
+// (PT alone, or at least kAutoRatioPtTimeShareRbCostly, where t_RB > t_PT). See combined.cpp for the
+// derivation.
+RoundShape auto_ratio_shape(double pt_seconds_per_spp, double rb_seconds_per_iteration, double pt_time_share,
+                            const AutoRatioBounds& bounds = {});
 
 // PT's probe image: the render's view at about kAutoRatioProbePixels pixels (its own size if
 // smaller), same aspect. A PT sample's cost per pixel has the same distribution over the view at any
@@ -96,8 +112,9 @@ double expected_pt_spp(const RoundShape& shape, std::uint64_t spp, std::uint64_t
                        double pt_seconds_per_spp, double rb_seconds_per_iteration);
 
 struct RatioProbe {
-  RoundShape chosen;                                // at pt_time_share
+  RoundShape chosen;                                // at pt_time_share, within bounds
   double pt_time_share = 0.0;
+  AutoRatioBounds bounds;                           // from the render's budget
   double pt_seconds_per_spp = 0.0;
   double rb_seconds_per_iteration = 0.0;
   std::uint32_t pt_samples = 0, rb_iterations = 0;  // the timed ones (plus one untimed RB iteration)

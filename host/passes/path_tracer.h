@@ -35,8 +35,12 @@ class PathTracerPass : public ProgressivePass {
 
   const BuiltProgram& program() const override { return program_; }
   const Launcher& launcher() const override { return launcher_; }
-  // N2 / N1 of the weights from the next sample on (--ratio auto sets it once, after its probe).
-  void set_weight_ratio(float n2_over_n1) { params_.weight_ratio = n2_over_n1; }
+  // The weight mode (BP_WEIGHTS_*) and N2 / N1 from the next sample on (--ratio auto sets them once,
+  // after its probe).
+  void set_weights(std::uint32_t mode, float n2_over_n1) {
+    params_.weight_mode = mode;
+    params_.weight_ratio = n2_over_n1;
+  }
   void set_eye_direct_shared(bool shared) { params_.eye_direct_shared = shared ? 1u : 0u; }
   std::uint32_t pixel_width() const { return camera_.width; }
   std::uint32_t pixel_height() const { return camera_.height; }

@@ -19,6 +19,10 @@ std::uint32_t batch_size(std::uint64_t done, std::uint64_t target, std::uint32_t
   return std::uint32_t(size);
 }
 
+bool time_budget_spent(double elapsed, double budget, double next_batch_seconds) {
+  return elapsed >= budget || elapsed + next_batch_seconds - budget > budget - elapsed;
+}
+
 RenderOutcome run_progressive(ProgressivePass& pass, const RenderBudget& budget,
                               const std::atomic<bool>& stop_requested,
                               const std::function<void(const RenderProgress&)>& on_progress,
@@ -27,11 +31,14 @@ RenderOutcome run_progressive(ProgressivePass& pass, const RenderBudget& budget,
   const auto start = clock::now();
   RenderOutcome out;
   out.rounds = first_round;
+  double seconds_per_round = 0.0;  // the last batch's: the next batch's time is predicted from it
   while (true) {
     double elapsed = std::chrono::duration<double>(clock::now() - start).count();
+    const std::uint32_t n = batch_size(out.rounds, budget.rounds, pass.max_batch());
     LoopStop stop = LoopStop::none;
     if (budget.rounds && out.rounds >= budget.rounds) stop = LoopStop::rounds;
-    else if (budget.seconds > 0.0 && elapsed >= budget.seconds) stop = LoopStop::time;
+    else if (budget.seconds > 0.0 && time_budget_spent(elapsed, budget.seconds, n * seconds_per_round))
+      stop = LoopStop::time;
     else if (budget.target_reached && budget.target_reached()) stop = LoopStop::target_reached;
     else if (stop_requested.load()) stop = LoopStop::interrupted;
     if (budget.agree_stop) stop = budget.agree_stop(stop);
@@ -40,14 +47,15 @@ RenderOutcome run_progressive(ProgressivePass& pass, const RenderBudget& budget,
       out.interrupted = stop == LoopStop::interrupted;
       break;
     }
-    std::uint32_t n = batch_size(out.rounds, budget.rounds, pass.max_batch());
     BatchCounts counts;
+    const auto batch_start = clock::now();
     try {
       counts = pass.run(out.rounds, n);
     } catch (const PassFailure& e) {
       out.failure = e.what();
       break;
     }
+    seconds_per_round = std::chrono::duration<double>(clock::now() - batch_start).count() / n;
     out.rounds += n;
     out.rays += counts.rays;
     out.fragments += counts.fragments;

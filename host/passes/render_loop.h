@@ -51,6 +51,12 @@ struct RenderOutcome {
 // render does (the same image, bit for bit). The last batch stops at the target.
 std::uint32_t batch_size(std::uint64_t done, std::uint64_t target, std::uint32_t max_batch);
 
+// --time: whether the render loop stops before a batch predicted to take next_batch_seconds, with
+// elapsed of budget seconds gone: at the budget, or where that batch would end further past it than
+// stopping now ends short of it. A render ends at the batch end nearest its budget, not at the first
+// one past it (a batch can be a long round: --ratio auto's can take most of a short --time).
+bool time_budget_spent(double elapsed, double budget, double next_batch_seconds);
+
 // Runs from round first_round (0, or where a resumed render stopped) until the budget's round target
 // (counted from 0), its seconds (counted in this run), its target_reached, a stop request, or a
 // batch that failed.

@@ -49,7 +49,8 @@ std::optional<RoundShape> round_of_key(const std::string& key) {
   const std::size_t at = key.find(tag);
   if (at == std::string::npos) return std::nullopt;
   unsigned long long spp = 0, iterations = 0;
-  if (std::sscanf(key.c_str() + at + tag.size(), "%lluspp+%lluit", &spp, &iterations) != 2 || iterations == 0)
+  // 0 iterations: the path tracer alone (--ratio auto's choice, passes/combined.h); 0 spp: RB alone.
+  if (std::sscanf(key.c_str() + at + tag.size(), "%lluspp+%lluit", &spp, &iterations) != 2 || spp + iterations == 0)
     return std::nullopt;
   return RoundShape{std::uint32_t(spp), std::uint32_t(iterations)};
 }

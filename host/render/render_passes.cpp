@@ -20,6 +20,7 @@ std::uint32_t beta_heuristic_of(const RenderSpec& o) {
 }
 
 std::string ratio_text(const RoundShape& shape) {
+  if (shape.pt_alone()) return "inf (the path tracer alone)";
   return shape.rb_iterations == 1 ? std::to_string(shape.pt_samples) : "1/" + std::to_string(shape.rb_iterations);
 }
 
@@ -253,6 +254,9 @@ static void decide_auto_settings(RenderState& s, RenderObserver& observer) {
   if (ratio_is_auto(o)) {
     if (s.resumed) {
       if (std::optional<RoundShape> saved = round_of_key(s.resumed->options)) s.shape = *saved;
+      if (s.shape->pt_alone() && o.iterations)
+        throw UsageError("the checkpoint was rendered by the path tracer alone (--ratio auto chose it): count "
+                         "with --spp or --time, not --iterations");
     } else {
       // The share for the eye-direct choice known now (auto counts as shared until it is resolved).
       s.probe = run_probe(s, auto_ratio_pt_time_share(s.light_sampling && !s.eye_direct_shared));
@@ -263,6 +267,8 @@ static void decide_auto_settings(RenderState& s, RenderObserver& observer) {
     std::optional<bool> saved = s.resumed ? eye_direct_shared_of_key(s.resumed->options) : std::nullopt;
     if (saved) {
       s.eye_direct_shared = *saved;
+    } else if (s.shape->pt_alone()) {
+      s.eye_direct_shared = false;  // RB renders nothing
     } else {
       // A --time budget needs the probe's costs: probed here when --ratio did not probe already.
       double t_pt = s.probe ? s.probe->pt_seconds_per_spp : 0.0, t_rb = s.probe ? s.probe->rb_seconds_per_iteration : 0.0;
@@ -276,7 +282,9 @@ static void decide_auto_settings(RenderState& s, RenderObserver& observer) {
       // Under --ratio auto, the samples PT would get with the eye vertex's direct light its own: at
       // that choice's share, not at the smaller shared one (which would tip every short render to shared).
       const bool at_pt_share = ratio_is_auto(o) && !s.several_devices();
-      const RoundShape shape = at_pt_share ? auto_ratio_shape(t_pt, t_rb, auto_ratio_pt_time_share(true)) : *s.shape;
+      const RoundShape shape =
+          at_pt_share ? auto_ratio_shape(t_pt, t_rb, auto_ratio_pt_time_share(true), s.probe ? s.probe->bounds : AutoRatioBounds{})
+                      : *s.shape;
       const double spp = expected_pt_spp(shape, o.spp, o.iterations, seconds, t_pt, t_rb);
       s.eye_direct_shared = spp < kEyeDirectSharedBelowSpp;
       observer.note(printf_text("--eye-direct auto: %s (about %.0f PT samples per pixel%s)",
@@ -284,8 +292,8 @@ static void decide_auto_settings(RenderState& s, RenderObserver& observer) {
     }
     if (!s.eye_direct_shared && s.probe) {  // PT's alone: the ratio for that share (kAutoRatioPtTimeShareEyePt)
       s.probe->pt_time_share = auto_ratio_pt_time_share(true);
-      s.probe->chosen =
-          auto_ratio_shape(s.probe->pt_seconds_per_spp, s.probe->rb_seconds_per_iteration, s.probe->pt_time_share);
+      s.probe->chosen = auto_ratio_shape(s.probe->pt_seconds_per_spp, s.probe->rb_seconds_per_iteration,
+                                         s.probe->pt_time_share, s.probe->bounds);
       choose_probed_shape(s);
     }
   }
@@ -307,16 +315,17 @@ void choose_auto_settings(RenderState& s, RenderObserver& observer) {
   if (s.ranks.root()) decide_auto_settings(s, observer);
   if (s.shape) s.ranks.broadcast(*s.shape);
   s.ranks.broadcast(s.eye_direct_shared);
-  // Where it is pt, the ray-bundle pass is made again without the eye chain.
+  // Where it is pt, the ray-bundle pass is made again without the eye chain (unless it renders nothing).
   if (eye_direct_is_auto(s) && !s.eye_direct_shared) {
     for (auto& pt : s.pt) pt->set_eye_direct_shared(false);
     s.rb_settings.eye_direct_shared = false;
-    build_rb_pass(s);
+    if (!s.shape->pt_alone()) build_rb_pass(s);
   }
-  if (ratio_is_auto(s.spec)) {
-    s.ratio_n2_over_n1 = combined_weights(s.weight_mode, *s.shape).ratio_n2_over_n1;
-    for (auto& pt : s.pt) pt->set_weight_ratio(s.ratio_n2_over_n1);
-    s.rb->set_weight_ratio(s.ratio_n2_over_n1);
+  if (ratio_is_auto(s.spec)) {  // PT alone: PT unweighted (combined_weights), RB never runs
+    const CombinedWeights weights = combined_weights(s.weight_mode, *s.shape);
+    s.ratio_n2_over_n1 = weights.ratio_n2_over_n1;
+    for (auto& pt : s.pt) pt->set_weights(weights.mode, weights.ratio_n2_over_n1);
+    s.rb->set_weight_ratio(weights.ratio_n2_over_n1);
   }
 }
 

@@ -40,10 +40,12 @@ void add_combination_stats(const RenderState& s, nlohmann::json& stats) {
   if (s.weight_mode == BP_WEIGHTS_PRODUCT) stats["beta"] = o.beta;
   if (s.light_sampling && s.rb) stats["rb_light_rate"] = s.light_rate;
   if (s.light_sampling && s.rb) stats["eye_direct"] = s.eye_direct_shared ? "shared" : "pt";
-  stats["ratio"] = shape.ratio();
+  // c; PT alone (c = ∞, which JSON has no number for): the string "inf" (Python's float() reads it).
+  const nlohmann::json ratio = shape.pt_alone() ? nlohmann::json("inf") : nlohmann::json(shape.ratio());
+  stats["ratio"] = ratio;
   if (s.probe) {
     const RatioProbe& probe = *s.probe;
-    stats["ratio_auto"] = {{"chosen", shape.ratio()},
+    stats["ratio_auto"] = {{"chosen", ratio},
                            {"pt_seconds_per_spp", probe.pt_seconds_per_spp},
                            {"rb_seconds_per_iteration", probe.rb_seconds_per_iteration},
                            {"pt_time_share", probe.pt_time_share},
@@ -55,7 +57,7 @@ void add_combination_stats(const RenderState& s, nlohmann::json& stats) {
                            {"probe_first_launch_seconds", probe.first_launch_seconds},
                            {"rule", s.several_devices() ? "concurrent" : "time_share"}};
   } else if (ratio_is_auto(o)) {
-    stats["ratio_auto"] = {{"chosen", shape.ratio()}, {"from_checkpoint", true}};
+    stats["ratio_auto"] = {{"chosen", ratio}, {"from_checkpoint", true}};
   }
   stats["rounds"] = s.outcome.rounds;
 }

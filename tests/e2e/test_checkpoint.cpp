@@ -59,7 +59,8 @@ TEST(Checkpoint, CtrlCThenResumeEqualsUninterrupted) {
 // uninterrupted render at that c.
 TEST(Checkpoint, ResumedAutoRatioReusesTheSavedRatio) {
   std::string dir = fresh_dir("checkpoint_auto_ratio");
-  const std::string common = "render " + kGlossy + "--width 24 --height 18 --mode combined ";
+  // 128x96: a PT sample costs more than an RB iteration, so c is finite (the path tracer alone: below).
+  const std::string common = "render " + kGlossy + "--width 128 --height 96 --mode combined ";
   CliResult first = run_cli(common + "--ratio auto --spp 8 --checkpoint " + dir + "/ck --stats " + dir + "/first.json --out " +
                             dir + "/first");
   ASSERT_EQ(first.exit_code, 0) << first.output;
@@ -80,6 +81,23 @@ TEST(Checkpoint, ResumedAutoRatioReusesTheSavedRatio) {
   const std::string fixed = chosen >= 1.0 ? std::to_string(std::lround(chosen)) : "1/" + std::to_string(std::lround(1.0 / chosen));
   ASSERT_EQ(run_cli(common + "--ratio " + fixed + " --eye-direct shared --spp 64 --out " + dir + "/whole").exit_code, 0);
   expect_same_image(dir + "/rest.exr", dir + "/whole.exr");
+}
+
+// Where --ratio auto chose the path tracer alone (a tiny image), the resumed render does too: the
+// image of --mode pt, bit for bit; counted in RB iterations it is refused.
+TEST(Checkpoint, ResumedPathTracerAloneStaysAlone) {
+  std::string dir = fresh_dir("checkpoint_pt_alone");
+  const std::string common = "render " + kGlossy + "--width 4 --height 4 ";
+  CliResult first = run_cli(common + "--mode combined --spp 8 --checkpoint " + dir + "/ck --out " + dir + "/first");
+  ASSERT_EQ(first.exit_code, 0) << first.output;
+  ASSERT_NE(first.output.find("the path tracer alone"), std::string::npos) << first.output;
+  CliResult rest = run_cli(common + "--mode combined --spp 16 --resume " + dir + "/ck --out " + dir + "/rest");
+  ASSERT_EQ(rest.exit_code, 0) << rest.output;
+  ASSERT_EQ(run_cli(common + "--mode pt --spp 16 --out " + dir + "/whole").exit_code, 0);
+  EXPECT_EQ(read_exr(dir + "/rest.exr").rgb, read_exr(dir + "/whole.exr").rgb);
+  CliResult counted = run_cli(common + "--mode combined --iterations 16 --resume " + dir + "/ck --out " + dir + "/it");
+  EXPECT_EQ(counted.exit_code, 2) << counted.output;
+  EXPECT_NE(counted.output.find("not --iterations"), std::string::npos) << counted.output;
 }
 
 TEST(Checkpoint, OtherOptionsOrABrokenFileAreRefused) {

@@ -196,21 +196,24 @@ TEST(Cli, CombinedModeWritesEveryLayerAndReportsAgainstAReference) {
 
 // --ratio auto, the default of --mode combined: a probe picks c, reported on stderr and in the stats,
 // and leaves no trace in the image: it is the render of a fixed --ratio at the chosen c, bit for bit.
+// At 128x128 a PT sample of the box costs several RB iterations (t_RB / t_PT about 0.04-0.26 in the
+// sweep), so c is finite.
 TEST(Cli, AutoRatioReportsTheChosenRatioAndDrawsThatRatiosImage) {
   std::string dir = fresh_dir("auto_ratio");
-  const std::string common = "render " + kScenes + "cornell-box.gltf --mode combined --width 20 --height 20 --layers all ";
+  const std::string common = "render " + kScenes + "cornell-box.gltf --mode combined --width 128 --height 128 --layers all ";
   for (const std::string ratio : {std::string("--ratio auto "), std::string()}) {  // explicit, and the default
     CliResult r = run_cli(common + ratio + "--spp 4 --out " + dir + "/auto --stats " + dir + "/auto.json");
     ASSERT_EQ(r.exit_code, 0) << r.output;
     EXPECT_NE(r.output.find("--ratio auto: c ="), std::string::npos) << r.output;
     nlohmann::json stats = nlohmann::json::parse(std::ifstream(dir + "/auto.json"));
     ASSERT_TRUE(stats.contains("ratio_auto")) << stats.dump();
+    ASSERT_TRUE(stats["ratio_auto"]["chosen"].is_number()) << stats.dump();
     const double chosen = stats["ratio_auto"]["chosen"].get<double>();
     EXPECT_EQ(stats["ratio"].get<double>(), chosen);
     EXPECT_GT(stats["ratio_auto"]["pt_seconds_per_spp"].get<double>(), 0.0);
     EXPECT_GT(stats["ratio_auto"]["rb_seconds_per_iteration"].get<double>(), 0.0);
     // Beyond the first launches (which build each kernel's work-group code on PoCL, a cost the render
-    // would pay anyway), --spp 4 on 20x20 pixels buys a probe of a few milliseconds.
+    // would pay anyway), --spp 4 buys a probe of one PT sample and one RB iteration.
     const nlohmann::json& a = stats["ratio_auto"];
     EXPECT_LT(a["probe_seconds"].get<double>() - a["probe_first_launch_seconds"].get<double>(), 0.2) << a.dump();
     // A power of 2; --spp fixes the rounds, the iterations follow from c.
@@ -232,6 +235,31 @@ TEST(Cli, AutoRatioReportsTheChosenRatioAndDrawsThatRatiosImage) {
   nlohmann::json stats = nlohmann::json::parse(std::ifstream(dir + "/timed.json"));
   const nlohmann::json& a = stats["ratio_auto"];
   EXPECT_LT(a["probe_seconds"].get<double>() - a["probe_first_launch_seconds"].get<double>(), 0.2) << a.dump();
+}
+
+// Where an RB iteration costs more than a PT sample of the whole image (16 pixels against the box's
+// patches), --ratio auto chooses the path tracer alone (c = inf): no RB iteration, no rb layer, and
+// the image of --mode pt, bit for bit. Counted in RB iterations, it may not (PT gets c = 64).
+TEST(Cli, AutoRatioChoosesThePathTracerAloneForATinyImage) {
+  std::string dir = fresh_dir("auto_ratio_pt_alone");
+  const std::string common = "render " + kScenes + "cornell-box.gltf --width 4 --height 4 ";
+  CliResult r = run_cli(common + "--mode combined --spp 8 --out " + dir + "/auto --stats " + dir + "/auto.json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("c = inf (the path tracer alone)"), std::string::npos) << r.output;
+  nlohmann::json stats = nlohmann::json::parse(std::ifstream(dir + "/auto.json"));
+  EXPECT_EQ(stats["ratio"], "inf") << stats.dump();
+  EXPECT_EQ(stats["ratio_auto"]["chosen"], "inf") << stats.dump();
+  EXPECT_EQ(stats["spp"].get<std::uint64_t>(), 8u);
+  EXPECT_EQ(stats["iterations"].get<std::uint64_t>(), 0u);
+  const std::vector<std::string> layers = exr_layer_names(dir + "/auto.exr");
+  EXPECT_EQ(std::count(layers.begin(), layers.end(), "rb"), 0);
+  ASSERT_EQ(run_cli(common + "--mode pt --spp 8 --out " + dir + "/pt").exit_code, 0);
+  EXPECT_EQ(read_exr(dir + "/auto.exr").rgb, read_exr(dir + "/pt.exr").rgb);
+  r = run_cli(common + "--mode combined --iterations 4 --out " + dir + "/it --stats " + dir + "/it.json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  stats = nlohmann::json::parse(std::ifstream(dir + "/it.json"));
+  EXPECT_EQ(stats["ratio"].get<double>(), 64.0) << stats.dump();
+  EXPECT_EQ(stats["iterations"].get<std::uint64_t>(), 4u);
 }
 
 TEST(Cli, CombinedModeOptionErrors) {
@@ -280,9 +308,12 @@ TEST(Cli, EyeDirectAutoFollowsThePtSampleBudget) {
   EXPECT_EQ(eye_direct("--ratio 4 --iterations 16"), "shared");  // 64 spp
   EXPECT_EQ(eye_direct("--ratio 4 --spp 256 --eye-direct shared"), "shared");
   EXPECT_EQ(eye_direct("--ratio 4 --spp 8 --eye-direct pt"), "pt");
-  // --ratio auto (the default) decides at the ratio it picks for pt, whatever the shared ratio would be.
-  EXPECT_EQ(eye_direct("--spp 8"), "shared");
-  EXPECT_EQ(eye_direct("--spp 256"), "pt");
+  // --ratio auto (the default) decides at the ratio it picks for pt, whatever the shared ratio would be
+  // (at 128x128, where c is finite: AutoRatioReportsTheChosenRatioAndDrawsThatRatiosImage) ...
+  EXPECT_EQ(eye_direct("--width 128 --height 128 --spp 8"), "shared");
+  EXPECT_EQ(eye_direct("--width 128 --height 128 --spp 256"), "pt");
+  // ... and where it chooses the path tracer alone (8x8) the light is PT's.
+  EXPECT_EQ(eye_direct("--spp 8"), "pt");
 }
 
 TEST(Cli, UnknownDeviceIsAnErrorListingDevices) {
@@ -326,7 +357,7 @@ TEST(Cli, BadTexturesExitThreeNamingFileAndObjectWritingNothing) {
 TEST(Cli, TexturedSceneCountsItsTextureMemory) {
   std::string dir = fresh_dir("textured");
   const std::string quad = std::string(BP_SOURCE_DIR) + "/tests/data/gltf/good/textured-quad.gltf";
-  CliResult r = run_cli("render " + quad + " --mode combined --environment 1,1,1 --width 16 --height 16 --spp 2 --out " +
+  CliResult r = run_cli("render " + quad + " --mode combined --ratio 1/4 --environment 1,1,1 --width 16 --height 16 --spp 2 --out " +
                         dir + "/q --stats " + dir + "/s.json");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   nlohmann::json stats = nlohmann::json::parse(std::ifstream(dir + "/s.json"));
@@ -374,7 +405,7 @@ TEST(Cli, ConstantEnvironmentMapRendersAsTheUniformRadiance) {
   // the marginal cdf (H + 1), the conditional ones (H (W + 1)) and the RGB texels, in floats
   EXPECT_EQ(stats["environment_device_bytes"].get<double>(), double((5 + 4 * 9 + 8 * 4 * 3) * sizeof(float)));
   EXPECT_GE(stats["scene_device_bytes"].get<double>(), stats["environment_device_bytes"].get<double>());
-  CliResult combined = run_cli("render " + quad + " --mode combined --environment " + dir +
+  CliResult combined = run_cli("render " + quad + " --mode combined --ratio 1/4 --environment " + dir +
                                "/sky.exr --width 16 --height 16 --spp 4 --out " + dir + "/c");
   ASSERT_EQ(combined.exit_code, 0) << combined.output;
   CliResult plain = run_cli("render " + kScenes + "cornell-box.gltf --width 16 --height 16 --spp 1 --out " + dir +

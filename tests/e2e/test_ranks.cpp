@@ -132,9 +132,11 @@ TEST(Ranks, RayBundlesOnTwoRanksAgreeWithOneProcess) {
   expect_regions_agree("--width 32 --height 32 --mode rb --iterations 192", 8, fresh_dir("ranks_rb"));
 }
 
-// --ratio auto: root's probe picks c and every rank renders with it (the weights need one c).
+// --ratio auto: root's probe picks c and every rank renders with it (the weights need one c); at
+// 32x32 that may be the path tracer alone, so a fixed ratio too, which has RB on both ranks.
 TEST(Ranks, CombinedOnTwoRanksAgreesWithOneProcess) {
   expect_regions_agree("--width 32 --height 32 --mode combined --spp 24", 6, fresh_dir("ranks_combined"));
+  expect_regions_agree("--width 32 --height 32 --mode combined --ratio 1/2 --spp 24", 6, fresh_dir("ranks_combined_fixed"));
 }
 
 // --time: root decides when the time is up and every rank stops at that round (a rank that went on

@@ -12,7 +12,7 @@ TEST(AutoRatio, GivesPtItsShareOfTheTime) {
   for (double f : {auto_ratio_pt_time_share(false), auto_ratio_pt_time_share(true)})
     for (double t_pt : {1e-4, 3e-3, 0.2})
       for (double t_rb : {1e-4, 2e-3, 0.05}) {
-        const RoundShape shape = auto_ratio_shape(t_pt, t_rb, f);
+        const RoundShape shape = auto_ratio_shape(t_pt, t_rb, f, AutoRatioBounds{0.0, false});
         const double share_wanted = t_rb > t_pt ? std::max(f, kAutoRatioPtTimeShareRbCostly) : f;
         const double c = shape.ratio(), exact = share_wanted / (1 - share_wanted) * t_rb / t_pt;
         EXPECT_EQ(std::exp2(std::round(std::log2(c))), c) << "a power of 2";
@@ -26,22 +26,56 @@ TEST(AutoRatio, GivesPtItsShareOfTheTime) {
       }
 }
 
-// An RB iteration dearer than a PT sample of the whole image: PT gets at least
-// kAutoRatioPtTimeShareRbCostly, whatever the share asked for (the house at 128x128: t_RB/t_PT ≈ 2,
-// c = 0.98/0.02 · 2 = 98 -> 64, the largest); one a little cheaper keeps the share asked for.
-TEST(AutoRatio, GivesPtMostOfTheTimeWhereAnRbIterationCostsMoreThanAPtSample) {
+// An RB iteration dearer than a PT sample of the whole image (the house at 128x128: t_RB/t_PT ≈ 2):
+// the path tracer alone, whatever the share asked for; where the render counts RB iterations
+// (--iterations) PT gets at least kAutoRatioPtTimeShareRbCostly (c = 0.98/0.02 · 2 = 98 -> 64, the
+// largest). One a little cheaper keeps the share asked for.
+TEST(AutoRatio, ChoosesThePathTracerAloneWhereAnRbIterationCostsMoreThanAPtSample) {
+  const AutoRatioBounds counts_iterations{0.0, false};
   for (bool pt_alone : {false, true}) {
     const double f = auto_ratio_pt_time_share(pt_alone);
-    EXPECT_EQ(auto_ratio_shape(0.045, 0.090, f).ratio(), 64.0);
-    EXPECT_EQ(auto_ratio_shape(0.090, 0.095, f).ratio(), 64.0);  // just dearer: 0.98/0.02 · 1.06 = 52 -> 64
-    EXPECT_EQ(auto_ratio_shape(0.100, 0.090, f).ratio(), std::exp2(std::round(std::log2(f / (1 - f) * 0.9))));
+    EXPECT_TRUE(auto_ratio_shape(0.045, 0.090, f).pt_alone());
+    EXPECT_EQ(auto_ratio_shape(0.045, 0.090, f).pt_samples, 1u);
+    EXPECT_TRUE(std::isinf(auto_ratio_shape(0.090, 0.095, f).ratio()));
+    EXPECT_EQ(auto_ratio_shape(0.045, 0.090, f, counts_iterations).ratio(), 64.0);
+    EXPECT_EQ(auto_ratio_shape(0.090, 0.095, f, counts_iterations).ratio(), 64.0);  // 0.98/0.02 · 1.06 = 52 -> 64
+    for (const AutoRatioBounds& bounds : {AutoRatioBounds{}, counts_iterations}) {
+      const RoundShape cheaper = auto_ratio_shape(0.100, 0.090, f, bounds);
+      EXPECT_FALSE(cheaper.pt_alone());
+      EXPECT_EQ(cheaper.ratio(), std::exp2(std::round(std::log2(f / (1 - f) * 0.9))));
+    }
   }
+  // PT alone: PT unweighted (w_PT = 1), as --mode pt.
+  EXPECT_EQ(combined_weights(BP_WEIGHTS_PRODUCT, RoundShape{1, 0}).mode, BP_WEIGHTS_NONE);
+  EXPECT_EQ(combined_weights(BP_WEIGHTS_PRODUCT, RoundShape{1, 0}).ratio_n2_over_n1, 0.0f);
+}
+
+// A round longer than the --time is halved until it fits, N2 first (the Phong house at 1280x720:
+// t_PT = 2.98 s, t_RB = 0.2 s, 16 s: c = 1/128 is a 28.6 s round, 1/64 one of 15.8 s).
+TEST(AutoRatio, ChoosesARoundThatFitsTheTimeBudget) {
+  const double f = auto_ratio_pt_time_share(false);
+  EXPECT_EQ(auto_ratio_shape(2.98, 0.2, f).rb_iterations, 128u);
+  const RoundShape fits = auto_ratio_shape(2.98, 0.2, f, AutoRatioBounds{16.0, true});
+  EXPECT_EQ(fits.pt_samples, 1u);
+  EXPECT_EQ(fits.rb_iterations, 64u);
+  EXPECT_EQ(auto_ratio_shape(2.98, 0.2, f, AutoRatioBounds{100.0, true}).rb_iterations, 128u);  // fits already
+  // c >= 1: N1 halved once N2 is 1 (t_RB/t_PT = 0.9 at the share 0.65: c = 1.67 -> 2, a 0.029 s round).
+  const double f_pt = auto_ratio_pt_time_share(true);
+  const RoundShape wide = auto_ratio_shape(0.01, 0.009, f_pt);
+  ASSERT_GT(wide.pt_samples, 1u);
+  const RoundShape narrowed = auto_ratio_shape(0.01, 0.009, f_pt, AutoRatioBounds{0.0095 + 0.01, true});
+  EXPECT_EQ(narrowed.rb_iterations, 1u);
+  EXPECT_EQ(narrowed.pt_samples, 1u);
+  // Nothing fits: the smallest round, one of each.
+  const RoundShape smallest = auto_ratio_shape(2.98, 0.2, f, AutoRatioBounds{1.0, true});
+  EXPECT_EQ(smallest.pt_samples, 1u);
+  EXPECT_EQ(smallest.rb_iterations, 1u);
 }
 
 TEST(AutoRatio, StaysWithinItsRange) {
   const double f = auto_ratio_pt_time_share(false);
   EXPECT_EQ(auto_ratio_shape(1.0, 1e-9, f).rb_iterations, 1024u);
-  EXPECT_EQ(auto_ratio_shape(1e-9, 1.0, f).pt_samples, 64u);
+  EXPECT_EQ(auto_ratio_shape(1e-9, 1.0, f, AutoRatioBounds{0.0, false}).pt_samples, 64u);
   // equal (clamped) costs: f / (1 - f), snapped to a power of 2
   EXPECT_EQ(auto_ratio_shape(0.0, 0.0, f).ratio(), std::ldexp(1.0, int(std::lround(std::log2(f / (1.0 - f))))));
 }
@@ -51,8 +85,8 @@ TEST(AutoRatio, LeansToPtWhereTheEyeDirectLightIsPtsAlone) {
   EXPECT_EQ(auto_ratio_pt_time_share(false), kAutoRatioPtTimeShareEyeShared);
   EXPECT_EQ(auto_ratio_pt_time_share(true), kAutoRatioPtTimeShareEyePt);
   EXPECT_GT(kAutoRatioPtTimeShareEyePt, kAutoRatioPtTimeShareEyeShared);
-  EXPECT_GE(auto_ratio_shape(1e-3, 2e-3, auto_ratio_pt_time_share(true)).ratio(),
-            auto_ratio_shape(1e-3, 2e-3, auto_ratio_pt_time_share(false)).ratio());
+  EXPECT_GT(auto_ratio_shape(2e-3, 1e-3, auto_ratio_pt_time_share(true)).ratio(),
+            auto_ratio_shape(2e-3, 1e-3, auto_ratio_pt_time_share(false)).ratio());
 }
 
 }  // namespace
