@@ -4,8 +4,9 @@
 # SECONDS each with --mode pt, --mode rb and --mode combined at its defaults (plus the combination
 # with --eye-direct pt and with --light-selection power, to show what each part buys), REPEATS
 # times with different seeds, against a long path-traced reference (bench/reference.sh, cached).
-# Prints a Markdown table: relMSE (median and each run), the image mean against the reference's,
-# and the work done.
+# Prints a Markdown table: relMSE (median and each run), relMSE times the render's seconds (median:
+# the inverse of the efficiency, comparable where runs stop at different batch ends near the
+# budget), the image mean against the reference's, and the work done.
 # Usage: bench/house.sh [SCENE] [SECONDS] [SIZE] [REFERENCE_SPP] [REPEATS] [-- 'OPTIONS' ...]
 #        defaults: rooms-lambert-100000 30 640x360 1024 2   (REFERENCE_SPP at SIZE, not scaled)
 #        After --: the rows are pt, rb, the default combination and one `--mode combined OPTIONS`
@@ -50,11 +51,12 @@ if "ratio_auto" in s:
     c = float(s["ratio"])  # "inf": the path tracer alone
     work += f" (c = {c:g})" if c >= 1 else f" (c = 1/{1 / c:g})"
 mean_dev = " / ".join(f"{100 * b:+.2f} %" for b in bias)
-print(f"| {label} | {work} | {statistics.median(rel):.3g} | {' / '.join(f'{x:.3g}' for x in rel)} | {mean_dev} |")
+rel_s = statistics.median(r * s["render_seconds"] for r, s in zip(rel, runs))
+print(f"| {label} | {work} | {statistics.median(rel):.3g} | {' / '.join(f'{x:.3g}' for x in rel)} | {rel_s:.3g} | {mean_dev} |")
 PY
 }
-echo "| method, ${size}, ${seconds} s | work done (seed 1) | relMSE (median) | relMSE per seed | image mean vs reference |"
-echo "|---|---|---|---|---|"
+echo "| method, ${size}, ${seconds} s | work done (seed 1) | relMSE (median) | relMSE per seed | relMSE·s (median) | image mean vs reference |"
+echo "|---|---|---|---|---|---|"
 run "\`--mode pt\`" --mode pt
 run "\`--mode rb\`" --mode rb
 run "\`--mode combined\` (defaults)" --mode combined

@@ -78,7 +78,8 @@ options (defaults in brackets):
                       comma-separated, or all: combined runs RB on the first and PT on the
                       others at the same time; pt splits its samples over all  [first GPU, else CPU]
   --mode MODE         pt (path tracing), rb (global ray-bundle iteration), or combined
-                      (both, weighted per path so the sum stays unbiased)      [pt]
+                      (both, weighted per path so the sum stays unbiased; with
+                      --ratio auto, the path tracer alone where RB cannot pay)  [combined]
   --weights W         combined: product (exact per-vertex weights), paper (the paper's
                       eq. 9/10 weights, one P per patch), none (plain sum: double counts)  [product]
   --beta B            product weights: the per-vertex factor of w_RB = prod beta, from PT's

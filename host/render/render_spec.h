@@ -23,7 +23,7 @@ struct RenderSpec {
   std::string out_prefix;        // default: out/<scene file stem>
   int width = 512;
   int height = 0;                // 0: from the width and the camera's aspect ratio (square if none)
-  std::uint64_t spp = 0;         // --mode pt/combined; 0 and no time: 64 (pt)
+  std::uint64_t spp = 0;         // --mode pt/combined; 0 and no time: 64
   std::uint64_t iterations = 0;  // --mode rb/combined; 0 and no time: 1000 (rb)
   std::uint32_t bins = 0;        // 0: chosen from the patch count
   std::uint32_t warmup = 16;     // ray-bundle iterations before the first eye estimate
@@ -36,7 +36,7 @@ struct RenderSpec {
   int error_levels = 1;          // batch lengths error_batch · 2^j, j < error_levels, in the stats (blocking)
   std::uint32_t seed = 1;
   std::string device;            // --device: indices or names, comma-separated, or all; empty: first GPU, else first CPU
-  std::string mode = "pt";       // pt, rb, combined
+  std::string mode = "combined";  // pt, rb, combined
   std::string weights = "product";  // combined: product, paper, none
   std::string beta = "clamped";     // product weights: the per-vertex beta, clamped or balance
   float light_rate = 0.0f;          // combined + light sampling: RB's light-sample rate; 0: default_light_rate

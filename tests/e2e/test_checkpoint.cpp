@@ -102,7 +102,7 @@ TEST(Checkpoint, ResumedPathTracerAloneStaysAlone) {
 
 TEST(Checkpoint, OtherOptionsOrABrokenFileAreRefused) {
   std::string dir = fresh_dir("checkpoint_refused");
-  const std::string base = "render " + kGlossy + "--width 16 --height 16 ";
+  const std::string base = "render " + kGlossy + "--mode pt --width 16 --height 16 ";
   ASSERT_EQ(run_cli(base + "--spp 4 --checkpoint " + dir + "/ck --out " + dir + "/a").exit_code, 0);
   CliResult r = run_cli(base + "--spp 8 --seed 9 --resume " + dir + "/ck --out " + dir + "/b");
   EXPECT_EQ(r.exit_code, 2) << r.output;

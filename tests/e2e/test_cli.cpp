@@ -73,7 +73,7 @@ TEST(Cli, ModeSpecificCountsAreChecked) {
   CliResult r = run_cli("render " + kScenes + "cornell-box.gltf --mode rb --spp 4");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.output.find("--iterations"), std::string::npos) << r.output;
-  r = run_cli("render " + kScenes + "cornell-box.gltf --iterations 4");
+  r = run_cli("render " + kScenes + "cornell-box.gltf --mode pt --iterations 4");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.output.find("--spp"), std::string::npos) << r.output;
 }
@@ -96,7 +96,7 @@ TEST(Cli, RayBundleRenderWritesItsStats) {
 // runs; a run that cannot reach the point light says so.
 TEST(Cli, PointLightSceneRendersLitAndWarnsWhereLightSamplingIsOff) {
   std::string dir = fresh_dir("point_light");
-  CliResult pt = run_cli("render " + kScenes + "blender-point-light.gltf --width 16 --height 16 --spp 4 --out " + dir +
+  CliResult pt = run_cli("render " + kScenes + "blender-point-light.gltf --mode pt --width 16 --height 16 --spp 4 --out " + dir +
                          "/pt --stats " + dir + "/s.json");
   ASSERT_EQ(pt.exit_code, 0) << pt.output;
   EXPECT_EQ(pt.output.find("warning"), std::string::npos) << pt.output;
@@ -105,7 +105,7 @@ TEST(Cli, PointLightSceneRendersLitAndWarnsWhereLightSamplingIsOff) {
   EXPECT_EQ(stats["light_sampling"], true);
   const ImageRGB image = read_exr(dir + "/pt.exr");
   EXPECT_GT(*std::max_element(image.rgb.begin(), image.rgb.end()), 0.1f);
-  for (const char* args : {"--mode rb --iterations 2", "--spp 2 --no-light-sampling"}) {
+  for (const char* args : {"--mode rb --iterations 2", "--mode pt --spp 2 --no-light-sampling"}) {
     CliResult dark = run_cli("render " + kScenes + "blender-point-light.gltf --width 8 --height 8 " +
                              std::string(args) + " --out " + dir + "/dark");
     EXPECT_EQ(dark.exit_code, 0) << dark.output;
@@ -171,7 +171,7 @@ TEST(Cli, CompareReportsMetricsAndRejectsMismatchedSizes) {
 TEST(Cli, CombinedModeWritesEveryLayerAndReportsAgainstAReference) {
   std::string dir = fresh_dir("combined");
   // A reference of the right size: a short path-traced render.
-  CliResult ref = run_cli("render " + kScenes + "cornell-box.gltf --width 20 --height 20 --spp 16 --out " + dir + "/ref");
+  CliResult ref = run_cli("render " + kScenes + "cornell-box.gltf --mode pt --width 20 --height 20 --spp 16 --out " + dir + "/ref");
   ASSERT_EQ(ref.exit_code, 0) << ref.output;
   // --rb-level own: the plain sum (the corrected level: RbLevelCli.WrittenImageIsPtPlusTheFactorTimesRb).
   CliResult r = run_cli("render " + kScenes + "cornell-box.gltf --mode combined --ratio 1/4 --width 20 --height 20 " +
@@ -472,7 +472,7 @@ TEST(Cli, RenderWritesExrPngAndStats) {
     EXPECT_TRUE(stats.contains(key)) << key;
   EXPECT_EQ(stats["spp"], 4);
   EXPECT_EQ(stats["width"], 40);
-  EXPECT_EQ(stats["mode"], "pt");
+  EXPECT_EQ(stats["mode"], "combined");  // the default
   EXPECT_GT(stats["rays"].get<double>(), 40.0 * 30 * 4 * 0.5);
   EXPECT_EQ(stats["nan_or_inf_samples"], 0);
   EXPECT_TRUE(stats["launches"].contains("pathtrace"));

@@ -84,7 +84,7 @@ TEST(Devices, TwoDeviceCombinedRenderAgreesWithOneDevice) {
 // makes it three times slower as well.
 TEST(Devices, SlowerDeviceTakesFewerPathTracingSamples) {
   const std::string dir = fresh_dir("devices_unequal");
-  const std::string common = "render " + kCornell + "--width 32 --height 32 --spp 64 ";
+  const std::string common = "render " + kCornell + "--mode pt --width 32 --height 32 --spp 64 ";
   CliResult r = run_cli(common + "--device all --out " + dir + "/two --stats " + dir + "/two.json",
                         kUnequalDevices + " BUNDLEPATH_TEST_SLOW_DEVICE=0:3");
   ASSERT_EQ(r.exit_code, 0) << r.output;

@@ -84,7 +84,7 @@ double largest_relative_difference(const ImageRGB& a, const ImageRGB& b, std::si
 // the same rounds, give the one-process image up to the order of float sums.
 TEST(Ranks, TwoRanksGiveTheOneProcessPathTracedImage) {
   const std::string dir = fresh_dir("ranks_pt");
-  const std::string common = "render " + kCornell + "--width 64 --height 64 --spp 64 --seed 7 ";
+  const std::string common = "render " + kCornell + "--mode pt --width 64 --height 64 --spp 64 --seed 7 ";
   const CliResult one = run_cli(common + "--out " + dir + "/one --stats " + dir + "/one.json");
   ASSERT_EQ(one.exit_code, 0) << one.output;
   const CliResult two = run_on_two_ranks(common + "--out " + dir + "/two --stats " + dir + "/two.json");
@@ -115,7 +115,7 @@ TEST(Ranks, TwoRanksGiveTheOneProcessPathTracedImage) {
 // uninterrupted image (the checkpoint holds the reduced sums; the batches end on the same grid).
 TEST(Ranks, StoppedAndResumedOnTwoRanksEqualsOneProcess) {
   const std::string dir = fresh_dir("ranks_checkpoint");
-  const std::string common = "render " + kCornell + "--width 32 --height 32 --seed 3 ";
+  const std::string common = "render " + kCornell + "--mode pt --width 32 --height 32 --seed 3 ";
   ASSERT_EQ(run_cli(common + "--spp 48 --out " + dir + "/whole").exit_code, 0);
   CliResult r = run_on_two_ranks(common + "--spp 16 --checkpoint " + dir + "/ck --out " + dir + "/first");
   ASSERT_EQ(r.exit_code, 0) << r.output;

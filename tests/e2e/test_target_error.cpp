@@ -43,14 +43,15 @@ TEST(TargetError, BadValuesExitTwoWithOneLine) {
 
 // Two renders with independent seeds stop at --target-error 0.001; the error they really have is
 // measured from their difference, E[(I1 − I2)²] = Var1 + Var2 (the path tracer is unbiased, so this
-// is its whole relMSE), with R ≈ (I1 + I2)/2 in DESIGN.md §7's denominator. The issue asks for
+// is its whole relMSE; `--mode pt`, the default until the combination became it), with R ≈ (I1 + I2)/2
+// in DESIGN.md §7's denominator. The issue asks for
 // 0.0005..0.0015; each run's own estimate must be within 1.5x of the measured value.
 TEST(TargetError, CornellBoxStopsNearTheTargetError) {
   const std::string dir = fresh_dir("target_error_box");
   double estimated[2];
   for (int s = 0; s < 2; ++s) {
     const std::string out = dir + "/seed" + std::to_string(s + 1);
-    CliResult r = run_cli("render " + kBox + "--width 128 --height 128 --target-error 0.001 --seed " +
+    CliResult r = run_cli("render " + kBox + "--mode pt --width 128 --height 128 --target-error 0.001 --seed " +
                           std::to_string(s + 1) + " --out " + out + " --stats " + out + ".json");
     ASSERT_EQ(r.exit_code, 0) << r.output;
     nlohmann::json stats = read_json(out + ".json");
@@ -83,12 +84,14 @@ TEST(TargetError, CornellBoxStopsNearTheTargetError) {
 // --time caps a target that cannot be reached in it: the render ends by time, and says so.
 TEST(TargetError, TimeCapsAnUnreachableTarget) {
   const std::string dir = fresh_dir("target_error_cap");
-  CliResult r = run_cli("render " + kBox + "--width 32 --height 32 --target-error 1e-12 --time 3 --out " + dir +
+  CliResult r = run_cli("render " + kBox + "--mode pt --width 32 --height 32 --target-error 1e-12 --time 3 --out " + dir +
                         "/img --stats " + dir + "/s.json");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   nlohmann::json stats = read_json(dir + "/s.json");
   EXPECT_EQ(stats["target_reached"], false);
-  EXPECT_GE(stats["render_seconds"].get<double>(), 3.0);  // only the cap ends it (a lower bound, not a timing test)
+  // Only the cap ends it, at the batch end nearest 3 s: past half of it (batches at most double). A
+  // lower bound, not a timing test.
+  EXPECT_GE(stats["render_seconds"].get<double>(), 1.5);
   // On a loaded machine the first launches may fill the 3 s: the estimate needs two batches.
   if (stats["estimated_rel_mse"].is_number()) {
     EXPECT_GT(stats["estimated_rel_mse"].get<double>(), 1e-12);
