@@ -63,7 +63,7 @@ options (defaults in brackets):
   --spp N             samples per pixel (pt, combined)         [pt: 64, unless --time is given]
   --iterations N      ray-bundle iterations (rb, combined)     [rb: 1000, unless --time is given]
                       combined: give --spp, --iterations or --time; the other count follows
-                      from --ratio                             [combined: 64 spp]
+                      from --ratio   [combined: as long as 64 PT spp alone take (auto), else 64 spp]
   --time SECONDS      stop after this much rendering time; with --spp, whichever comes first.
                       A render stops between batches, at the batch end nearest SECONDS
   --target-error X    render until the estimated relMSE (below) is at most X, a number > 0;
@@ -385,6 +385,7 @@ RenderOptions parse_render_options(const std::vector<std::string>& args) {
     throw UsageError("--ratio 0 runs ray bundles alone, no path-tracer samples: count with --iterations or --time, not --spp");
   if (o.mode == "combined" && !spp_given && !iterations_given && unbounded) {
     if (o.ratio == 0.0) o.iterations = 1000;  // ray bundles alone: --mode rb's default
+    else if (o.ratio < 0.0) o.equal_time_spp = 64;  // auto: the time --mode pt's default takes
     else o.spp = 64;
   }
   if (o.out_prefix.empty()) o.out_prefix = (std::filesystem::path("out") / std::filesystem::path(o.scene).stem()).string();

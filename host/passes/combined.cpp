@@ -70,6 +70,14 @@ double expected_pt_spp(const RoundShape& shape, std::uint64_t spp, std::uint64_t
   return expected == 1e300 ? 64.0 : expected;  // no budget: the combined default of 64 spp
 }
 
+std::uint64_t equal_time_rounds(std::uint64_t equal_time_spp, const RoundShape& shape, double pt_seconds_per_spp,
+                                double rb_seconds_per_iteration) {
+  const double round_seconds = shape.pt_samples * pt_seconds_per_spp + shape.rb_iterations * rb_seconds_per_iteration;
+  if (!(pt_seconds_per_spp > 0.0) || !(round_seconds > 0.0))
+    return std::max<std::uint64_t>(1, (equal_time_spp + shape.pt_samples - 1) / std::max<std::uint32_t>(1, shape.pt_samples));
+  return std::max<std::uint64_t>(1, std::uint64_t(std::llround(double(equal_time_spp) * pt_seconds_per_spp / round_seconds)));
+}
+
 namespace {
 double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
@@ -122,8 +130,11 @@ RatioProbe probe_ratio(PathTracerPass& probe_pt, std::size_t pixels, RayBundlePa
   time_until(0.0, 1, 1, rb_step, &rb_seconds, &rb_count);
   const double pt_scale = double(pixels) / (double(probe_pt.pixel_width()) * probe_pt.pixel_height());
   // The probe's size: a share of the render's time, estimated from these two when only a count is given.
-  const AutoRatioBounds bounds{budget.seconds, budget.iterations == 0};
-  double render_seconds = budget.seconds > 0.0 ? budget.seconds : 1e30;
+  // No budget: the render takes what equal_time_spp PT samples would, and its round must fit that.
+  const double seconds =
+      budget.seconds > 0.0 ? budget.seconds : double(budget.equal_time_spp) * pt_seconds / double(pt_count) * pt_scale;
+  const AutoRatioBounds bounds{seconds, budget.iterations == 0};
+  double render_seconds = seconds > 0.0 ? seconds : 1e30;
   if (budget.spp || budget.iterations) {
     const RoundShape first_guess = auto_ratio_shape(pt_seconds * pt_scale, rb_seconds, budget.pt_time_share, bounds);
     const double rounds = budget.spp ? std::ceil(double(budget.spp) / first_guess.pt_samples)

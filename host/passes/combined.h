@@ -129,7 +129,14 @@ struct RatioProbeBudget {
   double seconds = 0.0;
   std::uint64_t spp = 0, iterations = 0;
   double pt_time_share = kAutoRatioPtTimeShareEyeShared;  // what the round is chosen for
+  std::uint64_t equal_time_spp = 0;  // no budget: the time this many PT samples per pixel take
 };
+
+// A combined render with no budget (RenderSpec::equal_time_spp) takes as long as equal_time_spp PT
+// samples per pixel alone would: that time over one round's, N1 t_PT + N2 t_RB, at least one round.
+// Without costs (a resumed render: no probe) equal_time_spp / N1 rounds, rounded up.
+std::uint64_t equal_time_rounds(std::uint64_t equal_time_spp, const RoundShape& shape, double pt_seconds_per_spp,
+                                double rb_seconds_per_iteration);
 
 // Times PT on `probe_pt` (a pass of its own, at probe_image_size, with the render's settings) and RB
 // on the render's own pass (after an untimed PT launch of 0 samples and RB iteration, which pay the

@@ -171,6 +171,11 @@ void build_schedule(RenderState& s) {
     s.rounds = o.spp                    ? (o.spp + s.shape->pt_samples - 1) / s.shape->pt_samples
                : s.shape->pt_alone() ? 0
                                         : (o.iterations + s.shape->rb_iterations - 1) / s.shape->rb_iterations;
+    if (o.equal_time_spp) {  // from root's probe, the same on every rank
+      s.rounds = equal_time_rounds(o.equal_time_spp, *s.shape, s.probe ? s.probe->pt_seconds_per_spp : 0.0,
+                                   s.probe ? s.probe->rb_seconds_per_iteration : 0.0);
+      s.ranks.broadcast(s.rounds);
+    }
   }
 }
 

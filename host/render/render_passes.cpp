@@ -228,7 +228,7 @@ static RatioProbe run_probe(RenderState& s, double pt_time_share) {
   // A walkthrough's round has every view's PT samples: the pixels of all views (the views' PT costs
   // per pixel taken as the first's).
   return probe_ratio(probe_pt, std::size_t(s.scene.width) * s.scene.height * s.views.size(), *s.rb, rb_accums,
-                     RatioProbeBudget{o.seconds, o.spp, o.iterations, pt_time_share});
+                     RatioProbeBudget{o.seconds, o.spp, o.iterations, pt_time_share, o.equal_time_spp});
 }
 
 // The probe's round: its time share's on one device; on several, where PT and RB run at the same

@@ -25,6 +25,9 @@ struct RenderSpec {
   int height = 0;                // 0: from the width and the camera's aspect ratio (square if none)
   std::uint64_t spp = 0;         // --mode pt/combined; 0 and no time: 64
   std::uint64_t iterations = 0;  // --mode rb/combined; 0 and no time: 1000 (rb)
+  // --mode combined --ratio auto with no budget: render as long as --mode pt's this many samples per
+  // pixel would take, at the probe's costs (passes/combined.h, equal_time_rounds); 0: a budget is given.
+  std::uint64_t equal_time_spp = 0;
   std::uint32_t bins = 0;        // 0: chosen from the patch count
   std::uint32_t warmup = 16;     // ray-bundle iterations before the first eye estimate
   float contact_depth = -1.0f;   // --contact-depth: touching surfaces' depth, a fraction of the scene; < 0: kContactDepthFraction

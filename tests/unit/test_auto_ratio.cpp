@@ -109,3 +109,22 @@ TEST(AutoRatio, ProbeImageIsTheSameViewAtAbout128SquaredPixels) {
 
 }  // namespace
 }  // namespace bp
+
+namespace bp {
+namespace {
+
+// --mode combined with --ratio auto and no budget renders as long as --mode pt's default 64 spp
+// would take: that time over a round's, at least one round (the Cornell box at 512x512: t_PT =
+// 0.142 s, t_RB = 0.009 s, c = 1/128: 9.1 s over 1.29 s rounds, 7 rounds).
+TEST(AutoRatio, NoBudgetRendersAsLongAsThePathTracersDefault) {
+  EXPECT_EQ(equal_time_rounds(64, RoundShape{1, 128}, 0.1418, 0.009), 7u);
+  EXPECT_EQ(equal_time_rounds(64, RoundShape{1, 0}, 0.05, 0.1), 64u);  // the path tracer alone: 64 spp
+  EXPECT_EQ(equal_time_rounds(64, RoundShape{4, 1}, 0.01, 0.01), 13u);  // 0.64 s over 0.05 s
+  EXPECT_EQ(equal_time_rounds(1, RoundShape{1, 128}, 0.1, 1.0), 1u);    // at least one round
+  // No costs (a resumed render, no probe): 64 PT samples' worth of rounds.
+  EXPECT_EQ(equal_time_rounds(64, RoundShape{1, 128}, 0.0, 0.0), 64u);
+  EXPECT_EQ(equal_time_rounds(64, RoundShape{4, 1}, 0.0, 0.0), 16u);
+}
+
+}  // namespace
+}  // namespace bp
