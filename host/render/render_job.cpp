@@ -56,9 +56,8 @@ void resume(RenderState& s) {
 void start_error_estimate(RenderState& s) {
   const RenderSpec& o = s.spec;
   const std::uint64_t rb_batch_iterations = o.error_batch ? o.error_batch : kErrorBatchRbIterations;
-  const bool rb_renders = s.rb && (!s.shape || !s.shape->pt_alone());
   const std::uint64_t error_batch_rounds =
-      !rb_renders ? 1 : s.shape ? (rb_batch_iterations + s.shape->rb_iterations - 1) / s.shape->rb_iterations
+      !s.rb_renders() ? 1 : s.shape ? (rb_batch_iterations + s.shape->rb_iterations - 1) / s.shape->rb_iterations
                                 : rb_batch_iterations;
   const int width = s.scene.width, height = s.scene.height;
   for (std::size_t k = 0; k < s.views.size(); ++k) {
@@ -70,7 +69,7 @@ void start_error_estimate(RenderState& s) {
       view.round_sums.first = &view.pt_accum.sum;
       view.round_sums.first_scale = s.shape ? 1.0 / s.shape->pt_samples : 1.0;
     }
-    if (rb_renders) {
+    if (s.rb_renders()) {
       view.round_sums.second = &view.rb_accum.sum;
       view.round_sums.second_scale = s.shape ? 1.0 / s.shape->rb_iterations : 1.0;
     }
@@ -86,7 +85,7 @@ void start_error_estimate(RenderState& s) {
 // --rb-level corrected (image/rb_level.h): the levels of RB's layer and of PT's estimate of it,
 // batched like the render loop's batches.
 void start_rb_levels(RenderState& s) {
-  if (!rb_level_corrected(s.spec) || !s.shape || s.shape->pt_samples == 0 || s.shape->pt_alone() || !s.rb) return;
+  if (!rb_level_corrected(s.spec) || !s.shape || s.shape->pt_samples == 0 || !s.rb_renders()) return;
   for (std::size_t k = 0; k < s.views.size(); ++k) {
     RenderView& view = s.views[k];
     const std::optional<RbLevel::State> none;

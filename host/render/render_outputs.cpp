@@ -35,14 +35,13 @@ RenderLayers make_layers(const RenderState& s, const RenderView& view) {
       view.rb_level ? view.rb_level->factors() : std::array<double, 3>{1.0, 1.0, 1.0};
   layers.images.emplace_back("", sum_images(pt_image, rb_image, rb_factors));
   // No rb layers where --ratio auto chose the path tracer alone: RB rendered nothing.
-  const bool rb_rendered = s.rb && !(s.shape && s.shape->pt_alone());
   if (s.shape) {
     layers.images.emplace_back("pt", pt_image);
-    if (rb_rendered) layers.images.emplace_back("rb", rb_image);
+    if (s.rb_renders()) layers.images.emplace_back("rb", rb_image);
   }
   if (s.spec.all_layers) {
     if (pt) layers.images.emplace_back("pt_raw", view.pt_accum.raw_mean());
-    if (rb_rendered) layers.images.emplace_back("rb_raw", view.rb_accum.raw_mean());
+    if (s.rb_renders()) layers.images.emplace_back("rb_raw", view.rb_accum.raw_mean());
   }
   return layers;
 }

@@ -98,6 +98,8 @@ struct RenderState {
   RenderView& first_view() { return views.front(); }
   const RenderView& first_view() const { return views.front(); }
   bool walkthrough() const { return spec.views.frames(); }
+  // Whether RB renders anything: it has a pass, and --ratio auto did not choose the path tracer alone.
+  bool rb_renders() const { return rb && !(shape && shape->pt_alone()); }
   // Where this rank's passes end a batch: the (one) view's accumulators on one rank.
   Accumulator& pt_rank_accum() { return several_ranks() ? pt_rank_batch : first_view().pt_accum; }
   Accumulator& rb_rank_accum() { return several_ranks() ? rb_rank_batch : first_view().rb_accum; }
