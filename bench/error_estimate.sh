@@ -105,10 +105,11 @@ ratio = est / (meas - ref_noise) if est and meas > ref_noise else float("nan")
 with open(csv, "a") as f:
     est_text = f"{est:.6g}" if est is not None else "nan"  # fewer than two batches: no estimate
     to_var = est / two_seed if est and two_seed > 0 else float("nan")
-    f.write(f"{name},{mode},{budget},{work},{s['error_estimate']['batches']},{est_text},{meas:.6g},{ref_noise:.3g},{left:.3g},{ratio:.3f},"
+    batches = "/".join(str(l["batches"]) for l in s["error_estimate"]["layers"])  # PT/RB for the combination
+    f.write(f"{name},{mode},{budget},{work},{batches},{est_text},{meas:.6g},{ref_noise:.3g},{left:.3g},{ratio:.3f},"
             f"{two_seed:.6g},{to_var:.3f}\n")
 if mode == "rb" and len(s["error_estimate"]["levels"]) > 1:
-    lv = s["error_estimate"]["levels"]
+    lv = s["error_estimate"]["layers"][0]["levels"]
     e = [l["estimated_rel_mse"] or float("nan") for l in lv]
     rho = [e[j + 1] / e[j] - 1 for j in range(len(e) - 1) if e[j] and e[j + 1]]
     with open(blocking, "a") as f:
@@ -137,7 +138,7 @@ PY
 done
 
 {
-  echo "| scene | mode | budget (s) | work done | batches K | estimated relMSE | measured relMSE (vs reference) | reference's own noise | estimated / (measured − noise) | measured − noise − estimated | variance from two seeds | estimated / two-seed variance |"
+  echo "| scene | mode | budget (s) | work done | batches K (combined: PT/RB) | estimated relMSE | measured relMSE (vs reference) | reference's own noise | estimated / (measured − noise) | measured − noise − estimated | variance from two seeds | estimated / two-seed variance |"
   echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
   tail -n +2 "$csv" | while IFS=, read -r sc mo bu wo k es me rn le ra tv rv; do
     echo "| $sc | $mo | $bu | $wo | $k | $es | $me | $rn | $ra | $le | $tv | $rv |"

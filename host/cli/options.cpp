@@ -68,8 +68,9 @@ options (defaults in brackets):
                       A render stops between batches, at the batch end nearest SECONDS
   --target-error X    render until the estimated relMSE (below) is at most X, a number > 0;
                       with --time as a cap, whichever comes first; not with --spp or
-                      --iterations. Checked after each batch once 8 batches are done; the
-                      progress bar's ETA is the time to X from the estimate's 1/t decay
+                      --iterations. Checked after each batch once the estimate has 7
+                      degrees of freedom (8 batches of one estimator); the progress
+                      bar's ETA is the time to X from the estimate's 1/t decay
   --error-batch N     RB iterations per batch of the error estimate (rb, combined)  [64]
   --error-levels L    also estimate from batches 2, 4, ... 2^(L-1) times longer, into --stats
                       (the check that the batches outlast RB's correlation)   [1]
@@ -157,7 +158,8 @@ options (defaults in brackets):
   --stats FILE        write run statistics as JSON, with "estimated_rel_mse": the image's
                       relMSE estimated without a reference from the spread of batch means
                       (PT: batches of its rounds; RB: of --error-batch iterations, longer
-                      than its chain's correlation; combined: of both together); the EXR
+                      than its chain's correlation; combined: each layer from its own,
+                      their variances summed); the EXR
                       gets a 'stderr' layer, each pixel's standard error. It sees noise
                       only: RB's discretisation (patches, bins, Gouraud) is a bias no
                       variance shows (rb, and its share of combined): about 0.0004

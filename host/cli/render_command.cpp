@@ -53,11 +53,16 @@ void print_summary(const RenderOptions& o, const RenderResult& r) {
   if (r.frames.size() > 1)
     std::fprintf(stderr, "bundlepath: %zu frames: %s ... %s%s%s\n", r.frames.size(), r.frames.front().exr_path.c_str(),
                  r.frames.back().exr_path.c_str(), r.video_path.empty() ? "" : ", video ", r.video_path.c_str());
+  std::string batches;  // "12 batches of at least 1 round", or per layer: "PT 12 ... + RB 3 ..."
+  for (const RenderResult::ErrorLayer& l : r.error_layers) {
+    const std::string name = l.name == "pt" ? "PT" : "RB";
+    batches += (batches.empty() ? "" : " + ") + (r.error_layers.size() > 1 ? name + " " : std::string()) +
+               std::to_string(l.batches) + " batches of at least " + std::to_string(l.batch_rounds) +
+               (l.batch_rounds == 1 ? " round" : " rounds");
+  }
   if (std::isfinite(r.estimated_rel_mse))
-    std::fprintf(stderr, "bundlepath: estimated relMSE %.3g%s (noise only: from %llu batches of at least %llu rounds)%s\n",
-                 r.estimated_rel_mse, r.frames.size() > 1 ? " (worst frame)" : "",
-                 static_cast<unsigned long long>(r.error_batches),
-                 static_cast<unsigned long long>(r.error_batch_rounds),
+    std::fprintf(stderr, "bundlepath: estimated relMSE %.3g%s (noise only: from %s)%s\n",
+                 r.estimated_rel_mse, r.frames.size() > 1 ? " (worst frame)" : "", batches.c_str(),
                  o.target_error > 0.0 ? (r.outcome.target_reached ? ": --target-error reached"
                                                                   : ": --target-error not reached")
                                       : "");

@@ -85,8 +85,14 @@ double reference_value(PixelValue image, int width, int height, std::size_t i) {
   return count ? std::min(image(i), sum / count) : image(i);
 }
 
-template <class PixelValue>
-double rel_mse_of(const LevelVariance& var, int width, int height, PixelValue image) {
+// A variance of the mean already summed per value (ImageErrorEstimate's layers).
+struct LevelVarianceOf {
+  const std::vector<double>& variance;
+  double at(std::size_t i) const { return variance[i]; }
+};
+
+template <class Variance, class PixelValue>
+double rel_mse_of(const Variance& var, int width, int height, PixelValue image) {
   const std::size_t n = std::size_t(width) * std::size_t(height) * 3;
   double sum = 0.0;
   for (std::size_t i = 0; i < n; ++i) {
@@ -124,13 +130,6 @@ double BatchMeansErrorEstimate::estimated_rel_mse(const RoundSums& sums, int lev
   return rel_mse_of(var, state_.width, state_.height, [&](std::size_t i) { return sums.at(i) * inv_rounds; });
 }
 
-ImageRGB BatchMeansErrorEstimate::standard_error(int level) const {
-  ImageRGB out(state_.width, state_.height);
-  const std::vector<double> var = variance_of_mean(level);
-  for (std::size_t i = 0; i < var.size(); ++i) out.rgb[i] = float(std::sqrt(var[i]));
-  return out;
-}
-
 BatchMeansErrorEstimate BatchMeansErrorEstimate::from_state(State state, int width, int height) {
   const std::size_t n = std::size_t(width) * height * 3;
   bool ok = state.width == width && state.height == height && !state.levels.empty() &&
@@ -144,6 +143,94 @@ BatchMeansErrorEstimate BatchMeansErrorEstimate::from_state(State state, int wid
   BatchMeansErrorEstimate e;
   e.state_ = std::move(state);
   return e;
+}
+
+ImageErrorEstimate::ImageErrorEstimate(int width, int height, std::vector<Layer> layers, int levels,
+                                       std::uint64_t first_round,
+                                       const std::vector<BatchMeansErrorEstimate::State>* resumed)
+    : width_(width), height_(height), layers_(std::move(layers)), factors_(layers_.size(), {1.0, 1.0, 1.0}) {
+  if (resumed && resumed->size() != layers_.size())
+    throw std::runtime_error("the error estimate's batch statistics hold " + std::to_string(resumed->size()) +
+                             " layer(s), this render has " + std::to_string(layers_.size()));
+  for (std::size_t l = 0; l < layers_.size(); ++l)
+    estimates_.push_back(resumed ? BatchMeansErrorEstimate::from_state((*resumed)[l], width, height)
+                                 : BatchMeansErrorEstimate(width, height, layers_[l].batch_rounds, levels, first_round,
+                                                           first_round ? &layers_[l].sums : nullptr));
+}
+
+void ImageErrorEstimate::add(std::uint64_t rounds) {
+  for (std::size_t l = 0; l < layers_.size(); ++l) estimates_[l].add(rounds, layers_[l].sums);
+}
+
+void ImageErrorEstimate::set_channel_factors(const std::string& layer, const std::array<double, 3>& factors) {
+  for (std::size_t l = 0; l < layers_.size(); ++l)
+    if (layer == layers_[l].name) factors_[l] = factors;
+}
+
+std::vector<double> ImageErrorEstimate::layer_variance(std::size_t layer, int level) const {
+  std::vector<double> var = estimates_[layer].variance_of_mean(level);
+  const std::array<double, 3>& f = factors_[layer];
+  for (std::size_t i = 0; i < var.size(); ++i) var[i] *= f[i % 3] * f[i % 3];  // Var(f·X) = f² Var(X)
+  return var;
+}
+
+std::vector<double> ImageErrorEstimate::variance_of_mean(int level) const {
+  std::vector<double> sum;
+  for (std::size_t l = 0; l < estimates_.size(); ++l) {
+    std::vector<double> var = layer_variance(l, level);
+    if (var.empty()) return {};
+    if (sum.empty()) sum = std::move(var);
+    else
+      for (std::size_t i = 0; i < sum.size(); ++i) sum[i] += var[i];  // independent layers: Var(Σ) = Σ Var
+  }
+  return sum;
+}
+
+double ImageErrorEstimate::rel_mse_of(const std::vector<double>& variance) const {
+  if (variance.empty() || estimates_.empty() || estimates_.front().rounds() == 0) return std::nan("");
+  const double inv_rounds = 1.0 / double(estimates_.front().rounds());
+  const LevelVarianceOf var{variance};
+  return bp::rel_mse_of(var, width_, height_, [&](std::size_t i) {
+    double image = 0.0;  // I = Σ layers' sums · factors / rounds
+    for (std::size_t l = 0; l < layers_.size(); ++l) image += layers_[l].sums.at(i) * factors_[l][i % 3];
+    return image * inv_rounds;
+  });
+}
+
+double ImageErrorEstimate::estimated_rel_mse(int level) const { return rel_mse_of(variance_of_mean(level)); }
+
+double ImageErrorEstimate::layer_rel_mse(std::size_t layer, int level) const {
+  return rel_mse_of(layer_variance(layer, level));
+}
+
+double ImageErrorEstimate::degrees_of_freedom() const {
+  double sum = 0.0, sum_sq_over_dof = 0.0;
+  for (std::size_t l = 0; l < estimates_.size(); ++l) {
+    const double v = layer_rel_mse(l), dof = double(estimates_[l].batches()) - 1.0;
+    if (!(dof >= 1.0) || !std::isfinite(v)) return 0.0;
+    sum += v;
+    sum_sq_over_dof += v * v / dof;  // Welch–Satterthwaite: ν = (Σ V_l)² / Σ (V_l² / ν_l)
+  }
+  if (estimates_.empty()) return 0.0;
+  if (sum_sq_over_dof <= 0.0) {  // no variance at all: the least of the layers' freedoms
+    double least = INFINITY;
+    for (const BatchMeansErrorEstimate& e : estimates_) least = std::min(least, double(e.batches()) - 1.0);
+    return least;
+  }
+  return sum * sum / sum_sq_over_dof;
+}
+
+ImageRGB ImageErrorEstimate::standard_error() const {
+  ImageRGB out(width_, height_);
+  const std::vector<double> var = variance_of_mean(0);
+  for (std::size_t i = 0; i < var.size(); ++i) out.rgb[i] = float(std::sqrt(var[i]));
+  return out;
+}
+
+std::vector<BatchMeansErrorEstimate::State> ImageErrorEstimate::state() const {
+  std::vector<BatchMeansErrorEstimate::State> out;
+  for (const BatchMeansErrorEstimate& e : estimates_) out.push_back(e.state());
+  return out;
 }
 
 }  // namespace bp

@@ -6,7 +6,9 @@
 // Memory: two doubles per pixel and channel per level (the open batch's start and the sum of squares).
 #pragma once
 #include "image/image.h"
+#include <array>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace bp {
@@ -18,20 +20,16 @@ namespace bp {
 // hits are re-jittered every 16 iterations, so a batch must hold whole blocks of 16 anyway.
 constexpr std::uint64_t kErrorBatchRbIterations = 64;
 
-// --target-error stops only once this many batches are closed: the per-pixel variance of fewer has
-// too few degrees of freedom for a lucky low estimate to be unlikely.
-constexpr std::uint64_t kMinBatchesForTarget = 8;
+// --target-error stops only once the estimate has this many degrees of freedom (eight batches of one
+// layer): the variance of fewer is too uncertain for a lucky low estimate to be unlikely.
+constexpr double kMinDegreesOfFreedomForTarget = 7.0;
 
-// One or two weighted sums of per-pixel doubles (an accumulator's sums over rounds) that make the
-// image times the rounds: the combined image is pt.sum / N1 + rb.sum / N2 per round (eq. 3).
+// A weighted sum of per-pixel doubles (an accumulator's sums over rounds) that makes one estimator's
+// layer times the rounds: the combined image is pt.sum / N1 + rb.sum / N2 per round (eq. 3).
 struct RoundSums {
-  const std::vector<double>* first = nullptr;
-  double first_scale = 1.0;
-  const std::vector<double>* second = nullptr;
-  double second_scale = 1.0;
-  double at(std::size_t i) const {
-    return (first ? (*first)[i] * first_scale : 0.0) + (second ? (*second)[i] * second_scale : 0.0);
-  }
+  const std::vector<double>* sums = nullptr;
+  double scale = 1.0;
+  double at(std::size_t i) const { return (*sums)[i] * scale; }
 };
 
 class BatchMeansErrorEstimate {
@@ -59,8 +57,6 @@ class BatchMeansErrorEstimate {
   double estimated_rel_mse(const ImageRGB& image, int level = 0) const;
   // The same with the image of the sums given to the last add(), I = sums / rounds().
   double estimated_rel_mse(const RoundSums& sums, int level = 0) const;
-  // The standard error of each pixel of the image, sqrt(Var) (zeros with fewer than two batches).
-  ImageRGB standard_error(int level = 0) const;
 
   // What a checkpoint keeps (passes/checkpoint.cpp).
   struct Level {
@@ -84,6 +80,60 @@ class BatchMeansErrorEstimate {
  private:
   BatchMeansErrorEstimate() = default;
   State state_;
+};
+
+// The image's error from the independent estimators whose layers sum to it (DESIGN.md §9): the
+// combination's PT and RB layers draw their own random numbers and weigh with patch-level inputs
+// alone, so the variance of the image is the sum of the layers' variances, each from batches of its
+// own length -- PT's of one round (its rounds are independent), RB's of kErrorBatchRbIterations (a
+// chain). So PT's share has its degrees of freedom after a few rounds while RB's batches are long,
+// and --target-error waits for the degrees of freedom of the sum (Welch–Satterthwaite), not for
+// eight of RB's long batches. --rb-level corrected scales RB's layer in the image by a factor per
+// channel (image/rb_level.h): its variance counts scaled by the factor's square, the factor taken as
+// exact (its noise, and the correlation it brings between the layers, are of second order).
+class ImageErrorEstimate {
+ public:
+  struct Layer {
+    const char* name;                 // "pt", "rb": the image layer's name (render_outputs.h)
+    RoundSums sums;                   // the layer times the rounds
+    std::uint64_t batch_rounds = 1;   // its batches' least length
+  };
+  // `levels` batch lengths per layer (the blocking check, BatchMeansErrorEstimate). Starts at round
+  // `first_round` (the layers' sums then are where its batches start), or from a checkpoint's
+  // `resumed` states, one per layer; throws std::runtime_error if they do not fit.
+  ImageErrorEstimate(int width, int height, std::vector<Layer> layers, int levels, std::uint64_t first_round,
+                     const std::vector<BatchMeansErrorEstimate::State>* resumed = nullptr);
+
+  // After a batch of the render loop: the layers' sums hold rounds [0, rounds).
+  void add(std::uint64_t rounds);
+  // The factor per channel with which the layer named so counts in the image (1 unless set).
+  void set_channel_factors(const std::string& layer, const std::array<double, 3>& factors);
+
+  // The image's relMSE (BatchMeansErrorEstimate's formula) with the layers' variances summed, from
+  // each layer's batches of level j; NaN until every layer has two batches.
+  double estimated_rel_mse(int level = 0) const;
+  // Each layer's share of it: its variance over the image's reference values (NaN: fewer than two batches).
+  double layer_rel_mse(std::size_t layer, int level = 0) const;
+  // The degrees of freedom of estimated_rel_mse(): Welch–Satterthwaite's (Σ V_l)² / Σ (V_l² / (K_l − 1)),
+  // V_l a layer's relMSE from K_l batches, each layer's variance counted as one chi-square of K_l − 1
+  // (RB's error is the same sign over the image, so its pixels add no freedom; PT's would add some,
+  // so this is its least); 0 until every layer has two batches. One layer: K − 1.
+  double degrees_of_freedom() const;
+  // The standard error of each pixel of the image, sqrt(Σ Var_l) (zeros until every layer has two batches).
+  ImageRGB standard_error() const;
+
+  const std::vector<BatchMeansErrorEstimate>& layers() const { return estimates_; }
+  const char* layer_name(std::size_t layer) const { return layers_[layer].name; }
+  std::vector<BatchMeansErrorEstimate::State> state() const;
+
+ private:
+  std::vector<double> layer_variance(std::size_t layer, int level) const;  // as it counts; empty: not yet
+  std::vector<double> variance_of_mean(int level) const;  // summed over the layers; empty: not yet
+  double rel_mse_of(const std::vector<double>& variance) const;
+  int width_, height_;
+  std::vector<Layer> layers_;
+  std::vector<std::array<double, 3>> factors_;
+  std::vector<BatchMeansErrorEstimate> estimates_;
 };
 
 }  // namespace bp

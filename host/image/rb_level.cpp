@@ -25,8 +25,8 @@ RbLevel::RbLevel(std::uint64_t first_round, const Accumulator& pt, std::uint32_t
       rb_scale_(1.0 / (double(rb_iterations) * double(rb.width) * double(rb.height))),
       pt_sums_(3, 0.0),
       rb_sums_(3, 0.0),
-      pt_round_sums_{&pt_sums_, 1.0, nullptr, 0.0},
-      rb_round_sums_{&rb_sums_, 1.0, nullptr, 0.0} {
+      pt_round_sums_{&pt_sums_, 1.0},
+      rb_round_sums_{&rb_sums_, 1.0} {
   update_sums();
   if (resumed) {
     pt_.emplace(BatchMeansErrorEstimate::from_state(resumed->pt, 1, 1));

@@ -9,11 +9,13 @@
 namespace bp {
 namespace {
 
-constexpr char kMagic[8] = {'B', 'P', 'C', 'K', 'P', 'T', '0', '3'};
-// Versions 01 (before issue #16: it ends before the error estimate's statistics) and 02 (before
-// --rb-level: it ends before the RB level's) are read too.
+constexpr char kMagic[8] = {'B', 'P', 'C', 'K', 'P', 'T', '0', '4'};
+// Versions 01 (before issue #16: it ends before the error estimate's statistics), 02 (before
+// --rb-level: it ends before the RB level's) and 03 (one error estimate of the layers' sum, not one
+// per layer) are read too.
 constexpr char kMagicV1[8] = {'B', 'P', 'C', 'K', 'P', 'T', '0', '1'};
 constexpr char kMagicV2[8] = {'B', 'P', 'C', 'K', 'P', 'T', '0', '2'};
+constexpr char kMagicV3[8] = {'B', 'P', 'C', 'K', 'P', 'T', '0', '3'};
 // A walkthrough's further views follow the first's RB level, after this tag (a plain render's
 // checkpoint ends before it).
 constexpr char kViewsTag[8] = {'V', 'I', 'E', 'W', 'S', '0', '0', '1'};
@@ -124,6 +126,24 @@ std::optional<BatchMeansErrorEstimate::State> read_batch_means(Reader& r) {
   return e;
 }
 
+// Format 04: a count, then each layer's statistics; before, one optional estimate.
+void write_error_estimate(Writer& w, const std::vector<BatchMeansErrorEstimate::State>& layers) {
+  w.value(std::uint8_t(layers.size()));
+  for (const BatchMeansErrorEstimate::State& e : layers) write_batch_means(w, &e);
+}
+
+std::vector<BatchMeansErrorEstimate::State> read_error_estimate(Reader& r, bool one_optional) {
+  std::vector<BatchMeansErrorEstimate::State> layers;
+  const std::uint8_t count = one_optional ? 1 : r.value<std::uint8_t>();
+  if (count > 2) throw std::runtime_error(r.path + ": the checkpoint's batch statistics are inconsistent");
+  for (std::uint8_t l = 0; l < count; ++l) {
+    std::optional<BatchMeansErrorEstimate::State> e = read_batch_means(r);
+    if (e) layers.push_back(std::move(*e));
+    else if (!one_optional) throw std::runtime_error(r.path + ": the checkpoint's batch statistics are inconsistent");
+  }
+  return layers;
+}
+
 void write_rb_level(Writer& w, const std::optional<RbLevel::State>& level) {
   write_batch_means(w, level ? &level->pt : nullptr);
   write_batch_means(w, level ? &level->rb : nullptr);
@@ -152,7 +172,7 @@ void write_checkpoint(const std::string& path, const Checkpoint& c) {
     w.value(c.rb_state->eye_rounds);
     w.value(std::uint8_t(c.rb_state->warmed_up));
   }
-  write_batch_means(w, c.error_estimate ? &*c.error_estimate : nullptr);
+  write_error_estimate(w, c.error_estimate);
   write_rb_level(w, c.rb_level);
   if (!c.further_views.empty()) {
     w.bytes.append(kViewsTag, sizeof kViewsTag);
@@ -160,7 +180,7 @@ void write_checkpoint(const std::string& path, const Checkpoint& c) {
     for (const Checkpoint::View& view : c.further_views) {
       write_accumulator(w, view.pt);
       write_accumulator(w, view.rb);
-      write_batch_means(w, view.error_estimate ? &*view.error_estimate : nullptr);
+      write_error_estimate(w, view.error_estimate);
       write_rb_level(w, view.rb_level);
     }
   }
@@ -178,8 +198,8 @@ Checkpoint read_checkpoint(const std::string& path) {
   const auto starts_with = [&](const char (&magic)[8]) {
     return bytes.size() >= sizeof magic && std::memcmp(bytes.data(), magic, sizeof magic) == 0;
   };
-  const bool v1 = starts_with(kMagicV1), v2 = starts_with(kMagicV2);
-  if (!v1 && !v2 && !starts_with(kMagic))
+  const bool v1 = starts_with(kMagicV1), v2 = starts_with(kMagicV2), v3 = starts_with(kMagicV3);
+  if (!v1 && !v2 && !v3 && !starts_with(kMagic))
     throw std::runtime_error(path + ": not a bundlepath checkpoint");
   Reader r{bytes, path, sizeof kMagic};
   Checkpoint c;
@@ -195,7 +215,7 @@ Checkpoint read_checkpoint(const std::string& path) {
     s.warmed_up = r.value<std::uint8_t>() != 0;
     c.rb_state = s;
   }
-  if (!v1) c.error_estimate = read_batch_means(r);
+  if (!v1) c.error_estimate = read_error_estimate(r, v2 || v3);
   if (!v1 && !v2) c.rb_level = read_rb_level(r);
   if (!v1 && !v2 && bytes.size() - r.at >= sizeof kViewsTag &&
       std::memcmp(bytes.data() + r.at, kViewsTag, sizeof kViewsTag) == 0) {
@@ -205,7 +225,7 @@ Checkpoint read_checkpoint(const std::string& path) {
       Checkpoint::View view;
       view.pt = read_accumulator(r);
       view.rb = read_accumulator(r);
-      view.error_estimate = read_batch_means(r);
+      view.error_estimate = read_error_estimate(r, v3);
       view.rb_level = read_rb_level(r);
       c.further_views.push_back(std::move(view));
     }

@@ -19,16 +19,17 @@ struct Checkpoint {
   double render_seconds = 0.0;   // rendering time spent so far, over all runs
   std::optional<Accumulator> pt, rb;
   std::optional<RayBundlePass::State> rb_state;
-  // The error estimate's batch statistics (DESIGN.md §9); absent in checkpoints of before issue #16,
-  // whose resumed render starts its estimate afresh.
-  std::optional<BatchMeansErrorEstimate::State> error_estimate;
+  // The error estimate's batch statistics (DESIGN.md §9), one per estimator's layer (PT's, RB's;
+  // image/error_estimate.h). Empty in checkpoints of before issue #16; one, of the layers' sum, in
+  // those of formats 02 and 03. A resumed render whose layers they do not fit starts its estimate afresh.
+  std::vector<BatchMeansErrorEstimate::State> error_estimate;
   // The RB level's batch statistics (--rb-level corrected, image/rb_level.h); absent before format 03.
   std::optional<RbLevel::State> rb_level;
   // A walkthrough's views after the first (DESIGN.md §8; the first is pt, rb, error_estimate above):
   // each one's accumulators and error estimate. The ray-bundle state is the views' one chain.
   struct View {
     std::optional<Accumulator> pt, rb;
-    std::optional<BatchMeansErrorEstimate::State> error_estimate;
+    std::vector<BatchMeansErrorEstimate::State> error_estimate;
     std::optional<RbLevel::State> rb_level;
   };
   std::vector<View> further_views;

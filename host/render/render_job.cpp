@@ -14,12 +14,14 @@
 namespace bp {
 namespace {
 
-// Each view's estimate after the rounds done (closing a batch where they end one), and the worst.
+// Each view's estimate after the rounds done (closing a batch where they end one), of the image as
+// written (RB's layer with --rb-level's factors), and the worst.
 void update_error_estimates(RenderState& s, std::optional<std::uint64_t> rounds_done) {
   s.estimated_rel_mse = NAN;
   for (RenderView& view : s.views) {
-    if (rounds_done) view.error_estimate->add(*rounds_done, view.round_sums);
-    view.estimated_rel_mse = view.error_estimate->estimated_rel_mse(view.round_sums);
+    if (rounds_done) view.error_estimate->add(*rounds_done);
+    if (view.rb_level) view.error_estimate->set_channel_factors("rb", view.rb_level->factors());
+    view.estimated_rel_mse = view.error_estimate->estimated_rel_mse();
     if (std::isnan(s.estimated_rel_mse) || view.estimated_rel_mse > s.estimated_rel_mse)
       s.estimated_rel_mse = view.estimated_rel_mse;
   }
@@ -51,33 +53,29 @@ void resume(RenderState& s) {
   s.earlier_seconds = c.render_seconds;
 }
 
-// The error estimate (DESIGN.md §9), one per view: batches of both estimators together, each long
-// enough for RB's chain -- kErrorBatchRbIterations iterations (--error-batch), in rounds of the combination.
+// The error estimate (DESIGN.md §9), one per view: each estimator's layer from batches of its own --
+// PT's of one round, RB's of kErrorBatchRbIterations iterations (--error-batch) in rounds.
 void start_error_estimate(RenderState& s) {
   const RenderSpec& o = s.spec;
   const std::uint64_t rb_batch_iterations = o.error_batch ? o.error_batch : kErrorBatchRbIterations;
-  const std::uint64_t error_batch_rounds =
-      !s.rb_renders() ? 1 : s.shape ? (rb_batch_iterations + s.shape->rb_iterations - 1) / s.shape->rb_iterations
-                                : rb_batch_iterations;
-  const int width = s.scene.width, height = s.scene.height;
+  const std::uint64_t rb_batch_rounds =
+      s.shape ? (rb_batch_iterations + s.shape->rb_iterations - 1) / s.shape->rb_iterations : rb_batch_iterations;
   for (std::size_t k = 0; k < s.views.size(); ++k) {
     RenderView& view = s.views[k];
-    const std::optional<BatchMeansErrorEstimate::State>* saved =
-        !s.resumed ? nullptr : k ? &s.resumed->further_views[k - 1].error_estimate : &s.resumed->error_estimate;
     // The image times the rounds: pt.sum / N1 + rb.sum / N2 per round (eq. 3; N1 = N2 = 1 alone).
-    if (!s.pt.empty() && (!s.shape || s.shape->pt_samples > 0)) {
-      view.round_sums.first = &view.pt_accum.sum;
-      view.round_sums.first_scale = s.shape ? 1.0 / s.shape->pt_samples : 1.0;
-    }
-    if (s.rb_renders()) {
-      view.round_sums.second = &view.rb_accum.sum;
-      view.round_sums.second_scale = s.shape ? 1.0 / s.shape->rb_iterations : 1.0;
-    }
-    if (saved && *saved)
-      view.error_estimate.emplace(BatchMeansErrorEstimate::from_state(**saved, width, height));
-    else
-      view.error_estimate.emplace(width, height, error_batch_rounds, o.error_levels, s.first_round,
-                                  s.first_round ? &view.round_sums : nullptr);
+    std::vector<ImageErrorEstimate::Layer> layers;
+    if (!s.pt.empty() && (!s.shape || s.shape->pt_samples > 0))
+      layers.push_back({"pt", {&view.pt_accum.sum, s.shape ? 1.0 / s.shape->pt_samples : 1.0}, 1});
+    if (s.rb_renders())
+      layers.push_back({"rb", {&view.rb_accum.sum, s.shape ? 1.0 / s.shape->rb_iterations : 1.0}, rb_batch_rounds});
+    const std::vector<BatchMeansErrorEstimate::State>* saved =
+        !s.resumed ? nullptr : k ? &s.resumed->further_views[k - 1].error_estimate : &s.resumed->error_estimate;
+    // A checkpoint of before the layers were estimated apart holds one estimate of their sum: the
+    // resumed render's estimate starts afresh where that does not fit.
+    if (saved && saved->size() != layers.size()) saved = nullptr;
+    if (saved && saved->empty()) saved = nullptr;
+    view.error_estimate.emplace(s.scene.width, s.scene.height, std::move(layers), o.error_levels, s.first_round,
+                                saved);
   }
   update_error_estimates(s, std::nullopt);
 }
@@ -208,19 +206,22 @@ void render_rounds(RenderState& s, RenderObserver& observer) {
   RenderBudget budget{s.rounds, s.ranks.root() ? o.seconds : 0.0, {}};
   if (s.several_ranks())
     budget.agree_stop = [&](LoopStop stop) { return LoopStop(s.ranks.max_over_ranks(int(stop))); };
-  // --target-error: done once enough batches say the relMSE is at most X (checked after each batch).
+  // --target-error: done once every view's estimate has the degrees of freedom to say that the
+  // relMSE is at most X (checked after each batch).
   if (o.target_error > 0.0 && s.ranks.root())
     budget.target_reached = [&] {
-      return s.first_view().error_estimate->batches() >= kMinBatchesForTarget && s.estimated_rel_mse <= o.target_error;
+      for (const RenderView& view : s.views)
+        if (view.error_estimate->degrees_of_freedom() < kMinDegreesOfFreedomForTarget) return false;
+      return s.estimated_rel_mse <= o.target_error;
     };
   s.outcome = run_progressive(
       *s.pass, budget, observer.stop_requested(),
       [&](const RenderProgress& p) {
         if (!s.ranks.root()) return;  // its accumulators hold its last batch only
         double secs = std::max(p.elapsed_seconds, 1e-9);
-        update_error_estimates(s, p.rounds_done);
         for (RenderView& view : s.views)
           if (view.rb_level) view.rb_level->add(p.rounds_done);
+        update_error_estimates(s, p.rounds_done);
         RenderProgressReport report;
         report.frames = s.views.size();
         report.fraction = p.fraction;
@@ -296,8 +297,8 @@ RenderResult RenderJob::run(RenderObserver& observer) {
   if (!spec_.resume_path.empty()) s.resumed = read_checkpoint(spec_.resume_path);
   choose_auto_settings(s, observer);
   resume(s);
-  start_error_estimate(s);
   start_rb_levels(s);
+  start_error_estimate(s);
   build_schedule(s);
   render_rounds(s, observer);
 
@@ -308,8 +309,9 @@ RenderResult RenderJob::run(RenderObserver& observer) {
   r.combined = s.shape.has_value();
   r.mrays_per_second = s.outcome.seconds > 0 ? double(s.outcome.rays) / s.outcome.seconds * 1e-6 : 0.0;
   r.estimated_rel_mse = s.estimated_rel_mse;
-  r.error_batches = s.first_view().error_estimate->batches();
-  r.error_batch_rounds = s.first_view().error_estimate->batch_rounds();
+  const ImageErrorEstimate& e = *s.first_view().error_estimate;
+  for (std::size_t l = 0; l < e.layers().size(); ++l)
+    r.error_layers.push_back({e.layer_name(l), e.layers()[l].batches(), e.layers()[l].batch_rounds()});
   count_work(s, r);
   r.ranks = s.ranks.size();
   if (!s.ranks.root()) return r;  // root alone holds the render's sums and writes its files

@@ -67,7 +67,11 @@ struct RenderResult {
   std::string exr_path, png_path;
   std::vector<std::pair<std::string, ErrorMetrics>> reference_metrics;  // per layer, with --reference
   double estimated_rel_mse = NAN;  // a walkthrough: its worst frame's
-  std::uint64_t error_batches = 0, error_batch_rounds = 0;
+  struct ErrorLayer {  // the estimate's batches per estimator's layer (image/error_estimate.h)
+    std::string name;   // "pt", "rb"
+    std::uint64_t batches = 0, batch_rounds = 0;
+  };
+  std::vector<ErrorLayer> error_layers;
   std::vector<DeviceWorkReport> devices;            // this rank's
   int ranks = 1;                                    // the processes that rendered it (MPI ranks)
   std::vector<RenderFrame> frames;  // one per view, in order (a plain render: one, its exr and png paths)

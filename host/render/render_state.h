@@ -33,8 +33,7 @@ struct RenderView {
   SceneCamera scene_camera;
   CameraParams camera{};
   Accumulator pt_accum, rb_accum;
-  RoundSums round_sums;
-  std::optional<BatchMeansErrorEstimate> error_estimate;
+  std::optional<ImageErrorEstimate> error_estimate;
   double estimated_rel_mse = NAN;
   std::optional<RbLevel> rb_level;  // --rb-level corrected: RB's layer level from both estimators
   std::string out_prefix;  // --out, or PREFIX_0000, PREFIX_0001, ... for a walkthrough's frames

@@ -83,18 +83,30 @@ void add_ray_bundle_stats(const RenderState& s, const RenderResult& r, nlohmann:
   stats["rb_chains"] = bundle_chains(s.rb_settings);
 }
 
-// The first view's batches (every view's are the same rounds); a walkthrough's estimate is its worst frame's.
+// The first view's batches (every view's are the same rounds), per layer; a walkthrough's estimate is
+// its worst frame's.
 void add_error_estimate_stats(const RenderState& s, nlohmann::json& stats) {
-  const RenderView& view = s.first_view();
-  const BatchMeansErrorEstimate& e = *view.error_estimate;
+  const ImageErrorEstimate& e = *s.first_view().error_estimate;
   stats["estimated_rel_mse"] = s.estimated_rel_mse;  // NaN (null) before two batches
-  nlohmann::json levels = nlohmann::json::array();
-  for (int j = 0; j < e.levels(); ++j)
-    levels.push_back({{"batch_rounds", e.batch_rounds(j)},
-                      {"batches", e.batches(j)},
-                      {"estimated_rel_mse", e.estimated_rel_mse(view.round_sums, j)}});
-  stats["error_estimate"] = {{"batch_rounds", e.batch_rounds()}, {"batches", e.batches()}, {"levels", levels}};
-  if (s.rb) stats["error_estimate"]["rb_batch_iterations"] = e.batch_rounds() * (s.shape ? s.shape->rb_iterations : 1);
+  nlohmann::json levels = nlohmann::json::array(), layers = nlohmann::json::array();
+  for (int j = 0; j < e.layers().front().levels(); ++j) levels.push_back({{"estimated_rel_mse", e.estimated_rel_mse(j)}});
+  for (std::size_t l = 0; l < e.layers().size(); ++l) {
+    const BatchMeansErrorEstimate& layer = e.layers()[l];
+    const bool rb_layer = std::string(e.layer_name(l)) == "rb";
+    nlohmann::json layer_levels = nlohmann::json::array();
+    for (int j = 0; j < layer.levels(); ++j)
+      layer_levels.push_back({{"batch_rounds", layer.batch_rounds(j)},
+                              {"batches", layer.batches(j)},
+                              {"estimated_rel_mse", e.layer_rel_mse(l, j)}});
+    nlohmann::json out = {{"layer", e.layer_name(l)},
+                          {"batch_rounds", layer.batch_rounds()},
+                          {"batches", layer.batches()},
+                          {"estimated_rel_mse", e.layer_rel_mse(l)},
+                          {"levels", layer_levels}};
+    if (rb_layer) out["batch_iterations"] = layer.batch_rounds() * (s.shape ? s.shape->rb_iterations : 1);
+    layers.push_back(out);
+  }
+  stats["error_estimate"] = {{"degrees_of_freedom", e.degrees_of_freedom()}, {"levels", levels}, {"layers", layers}};
 }
 
 // --rb-level (image/rb_level.h): per channel, the factor on RB's layer and the two levels it weighs.

@@ -43,42 +43,46 @@ TEST(TargetError, BadValuesExitTwoWithOneLine) {
 
 // Two renders with independent seeds stop at --target-error 0.001; the error they really have is
 // measured from their difference, E[(I1 − I2)²] = Var1 + Var2 (the path tracer is unbiased, so this
-// is its whole relMSE; `--mode pt`, the default until the combination became it), with R ≈ (I1 + I2)/2
-// in DESIGN.md §7's denominator. The issue asks for
-// 0.0005..0.0015; each run's own estimate must be within 1.5x of the measured value.
+// is its whole relMSE; the combination's RB share adds a bias of about 0.00003 here, README, "Error
+// estimates"), with R ≈ (I1 + I2)/2 in DESIGN.md §7's denominator. The issue asks for
+// 0.0005..0.0015; each run's own estimate must be within 1.5x of the measured value. The path tracer,
+// and the combination at c = 1, whose RB batches are 64 rounds: before PT's and RB's layers were
+// estimated from batches of their own it waited for eight of those, 512 rounds, and stopped at 0.0004.
 TEST(TargetError, CornellBoxStopsNearTheTargetError) {
   const std::string dir = fresh_dir("target_error_box");
-  double estimated[2];
-  for (int s = 0; s < 2; ++s) {
-    const std::string out = dir + "/seed" + std::to_string(s + 1);
-    CliResult r = run_cli("render " + kBox + "--mode pt --width 128 --height 128 --target-error 0.001 --seed " +
-                          std::to_string(s + 1) + " --out " + out + " --stats " + out + ".json");
-    ASSERT_EQ(r.exit_code, 0) << r.output;
-    nlohmann::json stats = read_json(out + ".json");
-    EXPECT_EQ(stats["target_reached"], true);
-    EXPECT_GE(stats["error_estimate"]["batches"].get<int>(), 8);
-    estimated[s] = stats["estimated_rel_mse"].get<double>();
-    EXPECT_LE(estimated[s], 0.001);
+  for (const std::string mode : {"--mode pt", "--mode combined --ratio 1"}) {
+    double estimated[2];
+    for (int s = 0; s < 2; ++s) {
+      const std::string out = dir + "/seed" + std::to_string(s + 1);
+      CliResult r = run_cli("render " + kBox + mode + " --width 128 --height 128 --target-error 0.001 --seed " +
+                            std::to_string(s + 1) + " --out " + out + " --stats " + out + ".json");
+      ASSERT_EQ(r.exit_code, 0) << r.output;
+      nlohmann::json stats = read_json(out + ".json");
+      EXPECT_EQ(stats["target_reached"], true) << mode;
+      EXPECT_GE(stats["error_estimate"]["degrees_of_freedom"].get<double>(), 7.0) << mode;
+      estimated[s] = stats["estimated_rel_mse"].get<double>();
+      EXPECT_LE(estimated[s], 0.001) << mode;
+    }
+    const ImageRGB a = read_exr(dir + "/seed1.exr"), b = read_exr(dir + "/seed2.exr");
+    double sum = 0.0;
+    for (std::size_t i = 0; i < a.rgb.size(); ++i) {
+      const double d = double(a.rgb[i]) - b.rgb[i], r = 0.5 * (double(a.rgb[i]) + b.rgb[i]);
+      sum += 0.5 * d * d / (r * r + 0.01);  // (Var1 + Var2) / 2: each run's relMSE, on average
+    }
+    const double measured = sum / double(a.rgb.size());
+    EXPECT_GT(measured, 0.0005) << mode;
+    EXPECT_LT(measured, 0.0015) << mode;
+    const double mean_estimate = 0.5 * (estimated[0] + estimated[1]);
+    EXPECT_LT(mean_estimate, 1.5 * measured) << mode << ": measured " << measured;
+    EXPECT_GT(mean_estimate, measured / 1.5) << mode << ": measured " << measured;
+    // The stderr layer is the per-pixel standard error: its mean square over the image, each over the
+    // smaller of the pixel and its 8 neighbours' mean, squared (error_estimate.h), is the relMSE estimated.
+    const ImageRGB se = read_exr(dir + "/seed1.exr", "stderr");
+    ASSERT_EQ(se.rgb.size(), a.rgb.size());
+    std::vector<double> variance(se.rgb.size());
+    for (std::size_t i = 0; i < se.rgb.size(); ++i) variance[i] = double(se.rgb[i]) * se.rgb[i];
+    EXPECT_NEAR(estimated_rel_mse_of(a, variance), estimated[0], 1e-3 * estimated[0]) << mode;
   }
-  const ImageRGB a = read_exr(dir + "/seed1.exr"), b = read_exr(dir + "/seed2.exr");
-  double sum = 0.0;
-  for (std::size_t i = 0; i < a.rgb.size(); ++i) {
-    const double d = double(a.rgb[i]) - b.rgb[i], r = 0.5 * (double(a.rgb[i]) + b.rgb[i]);
-    sum += 0.5 * d * d / (r * r + 0.01);  // (Var1 + Var2) / 2: each run's relMSE, on average
-  }
-  const double measured = sum / double(a.rgb.size());
-  EXPECT_GT(measured, 0.0005);
-  EXPECT_LT(measured, 0.0015);
-  const double mean_estimate = 0.5 * (estimated[0] + estimated[1]);
-  EXPECT_LT(mean_estimate, 1.5 * measured) << "measured " << measured;
-  EXPECT_GT(mean_estimate, measured / 1.5) << "measured " << measured;
-  // The stderr layer is the per-pixel standard error: its mean square over the image, each over the
-  // smaller of the pixel and its 8 neighbours' mean, squared (error_estimate.h), is the relMSE estimated.
-  const ImageRGB se = read_exr(dir + "/seed1.exr", "stderr");
-  ASSERT_EQ(se.rgb.size(), a.rgb.size());
-  std::vector<double> variance(se.rgb.size());
-  for (std::size_t i = 0; i < se.rgb.size(); ++i) variance[i] = double(se.rgb[i]) * se.rgb[i];
-  EXPECT_NEAR(estimated_rel_mse_of(a, variance), estimated[0], 1e-3 * estimated[0]);
 }
 
 // --time caps a target that cannot be reached in it: the render ends by time, and says so.
@@ -115,7 +119,7 @@ TEST(TargetError, EstimateSurvivesACheckpoint) {
     nlohmann::json whole = read_json(dir + "/whole.json"), rest = read_json(dir + "/rest.json");
     ASSERT_TRUE(whole["estimated_rel_mse"].is_number()) << mode;
     EXPECT_EQ(rest["estimated_rel_mse"], whole["estimated_rel_mse"]) << mode;
-    EXPECT_EQ(rest["error_estimate"]["batches"], whole["error_estimate"]["batches"]) << mode;
+    EXPECT_EQ(rest["error_estimate"], whole["error_estimate"]) << mode;
     EXPECT_EQ(read_exr(dir + "/rest.exr", "stderr").rgb, read_exr(dir + "/whole.exr", "stderr").rgb) << mode;
   }
 }

@@ -58,8 +58,6 @@ TEST(ErrorEstimate, IndependentRoundsGiveTheVarianceOfTheMean) {
   const double expected = estimated_rel_mse_of(image, var);
   EXPECT_NEAR(estimate.estimated_rel_mse(image), expected, 1e-9 * expected);
   EXPECT_NEAR(estimate.estimated_rel_mse(view), expected, 1e-5 * expected);
-  const ImageRGB se = estimate.standard_error();
-  EXPECT_FLOAT_EQ(se.rgb[5], float(std::sqrt(var[5])));
 }
 
 // Fireflies (issue #16): rounds of 0.5 · Exp(1) plus, with probability 0.02, a spike of 10 -- the
@@ -134,13 +132,82 @@ TEST(ErrorEstimate, CorrelatedRoundsNeedBatchesLongerThanTheCorrelation) {
   for (int j = 1; j < 7; ++j) EXPECT_GT(mean_ratio(j), mean_ratio(j - 1)) << "level " << j;
 }
 
+// The combination's image is the sum of two independent layers, each estimated from batches of its
+// own length (ImageErrorEstimate): independent rounds (PT's, batches of one round) and an AR(1)
+// chain (RB's, batches of 32 rounds), fed in the render loop's batches. Their variances add, the
+// stderr layer is the root of the sum, and the degrees of freedom are Welch–Satterthwaite's: K − 1
+// for one layer, at most the sum of the layers' for two, and between the least and that sum.
+TEST(ErrorEstimate, IndependentLayersAddTheirVariancesAndFreedoms) {
+  std::mt19937_64 rng(17);
+  std::normal_distribution<double> normal;
+  std::vector<double> pt_sums(kValues, 0.0), rb_sums(kValues, 0.0), chain(kValues, 0.0);
+  const double rho = 0.5, innovation = std::sqrt(1.0 - rho * rho);
+  ImageErrorEstimate both(kWidth, kHeight, {{"pt", {&pt_sums, 0.5}, 1}, {"rb", {&rb_sums, 1.0}, 32}}, 1, 0);
+  ImageErrorEstimate pt_alone(kWidth, kHeight, {{"pt", {&pt_sums, 0.5}, 1}}, 1, 0);
+  const std::uint64_t rounds = 400;
+  for (std::uint64_t done = 0; done < rounds;) {
+    const std::uint32_t n = batch_size(done, rounds, 16);
+    for (std::uint32_t r = 0; r < n; ++r)
+      for (std::size_t i = 0; i < kValues; ++i) {
+        pt_sums[i] += 1.0 + 0.8 * normal(rng);
+        chain[i] = rho * chain[i] + innovation * normal(rng);
+        rb_sums[i] += 0.5 + 0.3 * chain[i];
+      }
+    done += n;
+    if (done < 64) {
+      EXPECT_EQ(both.degrees_of_freedom(), 0.0) << "the chain's layer has no two batches yet";
+    }
+    both.add(done);
+    pt_alone.add(done);
+  }
+  const BatchMeansErrorEstimate &pt = both.layers()[0], &rb = both.layers()[1];
+  ASSERT_EQ(pt.batches(), 5u + (rounds - 16) / 16);  // 1, 2, 4, 8, 16, then 16s
+  ASSERT_GE(rb.batches(), 10u);
+  ASSERT_LT(rb.batches(), pt.batches());
+  const std::vector<double> pt_var = pt.variance_of_mean(), rb_var = rb.variance_of_mean();
+  std::vector<double> var(kValues);
+  ImageRGB image(kWidth, kHeight);
+  for (std::size_t i = 0; i < kValues; ++i) {
+    var[i] = pt_var[i] + rb_var[i];  // each of the layer as it counts in the image (PT's sums at half)
+    image.rgb[i] = float((0.5 * pt_sums[i] + rb_sums[i]) / double(rounds));
+  }
+  const ImageRGB se = both.standard_error();
+  for (std::size_t i : {std::size_t(0), std::size_t(5), kValues - 1}) EXPECT_FLOAT_EQ(se.rgb[i], float(std::sqrt(var[i])));
+  const double expected = estimated_rel_mse_of(image, var);
+  EXPECT_NEAR(both.estimated_rel_mse(), expected, 1e-5 * expected);
+  EXPECT_NEAR(both.layer_rel_mse(0) + both.layer_rel_mse(1), expected, 1e-9 * expected);
+  // Each layer's variance is right: 0.25 · 0.64 / N for PT's, 0.09 · (1 + ρ)/(1 − ρ) / N for the chain's
+  // (its batches of 32+ rounds see all but a few percent of it), averaged over 3072 values.
+  double pt_ratio = 0.0, rb_ratio = 0.0;
+  for (std::size_t i = 0; i < kValues; ++i) {
+    pt_ratio += pt_var[i] * double(rounds) / (0.25 * 0.64) / double(kValues);
+    rb_ratio += rb_var[i] * double(rounds) / (0.09 * ar1_batch_factor(rho, double(rounds))) / double(kValues);
+  }
+  EXPECT_NEAR(pt_ratio, 1.0, 0.02);
+  EXPECT_NEAR(rb_ratio, ar1_batch_factor(rho, 32) / ar1_batch_factor(rho, 1e9), 0.06);
+  // Welch–Satterthwaite.
+  const double v_pt = both.layer_rel_mse(0), v_rb = both.layer_rel_mse(1);
+  const double k_pt = double(pt.batches()) - 1.0, k_rb = double(rb.batches()) - 1.0;
+  const double dof = (v_pt + v_rb) * (v_pt + v_rb) / (v_pt * v_pt / k_pt + v_rb * v_rb / k_rb);
+  EXPECT_NEAR(both.degrees_of_freedom(), dof, 1e-9 * dof);
+  EXPECT_GT(both.degrees_of_freedom(), std::min(k_pt, k_rb));
+  EXPECT_LE(both.degrees_of_freedom(), k_pt + k_rb);
+  EXPECT_EQ(pt_alone.degrees_of_freedom(), k_pt);
+}
+
 TEST(ErrorEstimate, FewerThanTwoBatchesHaveNoEstimate) {
   std::vector<double> sums(kValues, 1.0);
   BatchMeansErrorEstimate estimate(kWidth, kHeight, 64);
   estimate.add(32, RoundSums{&sums});
   EXPECT_TRUE(std::isnan(estimate.estimated_rel_mse(RoundSums{&sums})));
   EXPECT_TRUE(estimate.variance_of_mean().empty());
-  EXPECT_EQ(estimate.standard_error().rgb.size(), kValues);
+  ImageErrorEstimate image_estimate(kWidth, kHeight, {{"rb", {&sums, 1.0}, 64}}, 1, 0);
+  image_estimate.add(32);
+  EXPECT_TRUE(std::isnan(image_estimate.estimated_rel_mse()));
+  EXPECT_EQ(image_estimate.degrees_of_freedom(), 0.0);
+  const ImageRGB se = image_estimate.standard_error();  // zeros until two batches
+  ASSERT_EQ(se.rgb.size(), kValues);
+  EXPECT_EQ(se.rgb[7], 0.0f);
 }
 
 // The statistics survive a checkpoint (the resumed estimate continues the same batches), and a
@@ -160,29 +227,30 @@ TEST(ErrorEstimate, StatisticsSurviveACheckpoint) {
   Checkpoint c;
   c.options = "x";
   c.rounds = 39;
-  c.error_estimate = estimate.state();
+  c.error_estimate = {estimate.state()};
   write_checkpoint(dir + "/ck", c);
   Checkpoint back = read_checkpoint(dir + "/ck");
-  ASSERT_TRUE(back.error_estimate);
-  BatchMeansErrorEstimate resumed = BatchMeansErrorEstimate::from_state(*back.error_estimate, kWidth, kHeight);
+  ASSERT_EQ(back.error_estimate.size(), 1u);
+  BatchMeansErrorEstimate resumed = BatchMeansErrorEstimate::from_state(back.error_estimate[0], kWidth, kHeight);
   EXPECT_EQ(resumed.variance_of_mean(0), estimate.variance_of_mean(0));
   EXPECT_EQ(resumed.variance_of_mean(1), estimate.variance_of_mean(1));
   EXPECT_EQ(resumed.batches(1), estimate.batches(1));
-  EXPECT_THROW(BatchMeansErrorEstimate::from_state(*back.error_estimate, kWidth, kHeight + 1), std::runtime_error);
+  EXPECT_THROW(BatchMeansErrorEstimate::from_state(back.error_estimate[0], kWidth, kHeight + 1), std::runtime_error);
 
-  c.error_estimate.reset();
+  c.error_estimate.clear();
   write_checkpoint(dir + "/v1", c);
   std::ifstream in(dir + "/v1", std::ios::binary);
   std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   in.close();
-  // Format 02 ends before the RB level's two presence bytes, 01 also before the error estimate's.
-  for (const char version : {'2', '1'}) {
+  // Format 03 has a presence byte where 04 has the count of layers (0 here: the same bytes), 02 ends
+  // before the RB level's two presence bytes, 01 also before the error estimate's.
+  for (const char version : {'3', '2', '1'}) {
     bytes[7] = version;
-    bytes.resize(bytes.size() - (version == '2' ? 2 : 1));
+    bytes.resize(bytes.size() - (version == '3' ? 0 : version == '2' ? 2 : 1));
     std::ofstream(dir + "/old", std::ios::binary) << bytes;
     Checkpoint old = read_checkpoint(dir + "/old");
     EXPECT_EQ(old.rounds, 39u);
-    EXPECT_FALSE(old.error_estimate);
+    EXPECT_TRUE(old.error_estimate.empty());
     EXPECT_FALSE(old.rb_level);
   }
 }
