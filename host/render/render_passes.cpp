@@ -132,9 +132,11 @@ static void check_view_memory(const RenderState& s, std::size_t rb_device_bytes)
   const DeviceInfo& device = s.devices.front()->context.info;
   const std::size_t device_bytes = rb_device_bytes + (s.use_pt ? views * pixels * sizeof(PixelAccum) : 0);
   // Host: per view the pt and rb sums (raw too with --layers all), the error estimate's two sums per
-  // level and the layers written at the end (floats), all RGB.
+  // level and estimator (image/error_estimate.h) and the layers written at the end (floats), all RGB.
+  const std::size_t estimators = std::size_t(s.use_pt) + std::size_t(s.use_rb);
   const std::size_t host_bytes =
-      views * pixels * 3 * (sizeof(double) * (2 * (o.all_layers ? 2 : 1) + 2 * std::size_t(o.error_levels)) + 4 * 4);
+      views * pixels * 3 *
+      (sizeof(double) * (2 * (o.all_layers ? 2 : 1) + 2 * std::size_t(o.error_levels) * estimators) + 4 * 4);
   const std::size_t host_memory = std::size_t(sysconf(_SC_PHYS_PAGES)) * std::size_t(sysconf(_SC_PAGE_SIZE));
   const bool device_short = device_bytes > device.global_memory_bytes / 4 * 3;
   if (device_short || host_bytes > host_memory / 2)
