@@ -595,6 +595,35 @@ static float4 eye_irradiance(const EyeHit* h, __global const float4* flat, __glo
          e_vertex[pv[2] * slots + slot] * h->l2;
 }
 
+// Whether a pixel's eye estimate is gathered once per block of iterations (rb_eye_patches,
+// rb_eye_block) rather than every iteration (rb_eye): with eye_blocks on, every pixel that sees the
+// environment, and every Lambert eye vertex without a shading normal of its own. There f(wi, wo) is
+// kd/pi (0 behind the patch), the same every iteration, and everything else the estimate reads --
+// the interpolated E_in, the weights, the light samples' directions -- depends on the patch, its
+// corners and omega alone, so the block's sum of estimates is f times the sum of those per-patch
+// terms (DESIGN.md §8: the per-iteration gather is linear in the patch irradiance). Not with the
+// paper's weights (their ln P at the eye is not linear in E_in).
+static int eye_in_blocks(uint eye_blocks, const Bsdf* bsdf, float3 n, float3 ns) {
+  if (!eye_blocks) return 0;
+  if (BP_FEATURE_PHONG && bsdf->p_diffuse < 1.0f) return 0;  // a Phong lobe: f depends on omega and wo
+  float3 d = ns - n;
+  return !BP_FEATURE_SHADING_NORMALS || (d.x == 0.0f && d.y == 0.0f && d.z == 0.0f);
+}
+
+// What the environment seen from the eye adds per iteration, weighted (returned) and raw (*raw): the
+// empty prefix (RB's alone under product weights, PT's where light sampling gives it the eye's emission).
+static float3 eye_environment(const EyeHit* h, const BundleIteration* it, __global const float* environment_texels,
+                              float3* raw) {
+  const EnvironmentMap map = environment_map(environment_texels, it->environment_width, it->environment_height);
+  float3 env = environment_radiance(&map, make_float3(-h->wo[0], -h->wo[1], -h->wo[2]));
+  *raw = env;
+  float3 weighted = env;
+  if (it->weight_mode == BP_WEIGHTS_PRODUCT && BP_FEATURE_LIGHT_SAMPLING && it->light_count > 0u)
+    weighted = make_float3(0.0f, 0.0f, 0.0f);
+  if (it->weight_mode == BP_WEIGHTS_PAPER) weighted = env * paper_rb_weight(0.0f, it->weight_ratio);
+  return weighted;
+}
+
 // 6. Eye estimate of this iteration: the primary hit reflects its patch's incoming radiance towards
 //    the eye, Le + 2 pi f(w_in -> w_view) cos(theta_in) L_in, weighted as the mode says, added to the
 //    pixel's running sums (weighted, and raw when asked for).
@@ -604,21 +633,17 @@ __kernel void rb_eye(__global const EyeHit* hits, __global const BundleElement* 
                      __global const float4* e_vertex, const uint gouraud, const BundleIteration it,
                      const uint pixels, __global float4* pixel_sum, __global const float4* eye_light,
                      __global const float4* eye_normals, __global const Material* patch_materials, const uint uv_slots,
-                     __global const float4* eye_texels, __global const float* environment_texels) {
+                     __global const float4* eye_texels, __global const float* environment_texels,
+                     const uint eye_blocks) {
   uint pixel = (uint)get_global_id(0);
   if (pixel >= pixels) return;
   EyeHit h = hits[pixel];
   if (h.patch == BP_NO_PATCH) {
-    // The environment seen from the eye, weighted as an emitter the eye sees: the empty prefix (RB's
-    // alone under product weights, PT's where light sampling gives it the eye's emission).
-    if (h.element != BP_NO_PATCH) return;
-    const EnvironmentMap map = environment_map(environment_texels, it.environment_width, it.environment_height);
-    float3 env = environment_radiance(&map, make_float3(-h.wo[0], -h.wo[1], -h.wo[2]));
+    // The environment seen from the eye, weighted as an emitter the eye sees (in blocks: rb_eye_block).
+    if (h.element != BP_NO_PATCH || eye_blocks) return;
+    float3 env;
+    float3 weighted = eye_environment(&h, &it, environment_texels, &env);
     if (env.x + env.y + env.z <= 0.0f) return;
-    float3 weighted = env;
-    if (it.weight_mode == BP_WEIGHTS_PRODUCT && BP_FEATURE_LIGHT_SAMPLING && it.light_count > 0u)
-      weighted = make_float3(0.0f, 0.0f, 0.0f);
-    if (it.weight_mode == BP_WEIGHTS_PAPER) weighted = env * paper_rb_weight(0.0f, it.weight_ratio);
     pixel_sum[pixel * it.eye_outputs] += (float4)(weighted.x, weighted.y, weighted.z, 0.0f);
     if (it.eye_outputs > 1) pixel_sum[pixel * it.eye_outputs + 1] += (float4)(env.x, env.y, env.z, 0.0f);
     return;
@@ -632,14 +657,15 @@ __kernel void rb_eye(__global const EyeHit* hits, __global const BundleElement* 
     bsdf_take_texel(&bsdf, make_float3(kd.x, kd.y, kd.z), make_float3(ks.x, ks.y, ks.z), kd.w,
                     make_float3(le.x, le.y, le.z));
   }
-  float3 wo = make_float3(h.wo[0], h.wo[1], h.wo[2]);
-  float3 wi = facing(n, bp_private3(it.omega));
-  BsdfValue v = bsdf_evaluate(&bsdf, n, wi, wo);  // about the patch normal: the weight inputs (DESIGN.md §3)
   float3 ns = n;  // the shading normal, for the reflected radiance
   if (BP_FEATURE_SHADING_NORMALS && it.shading_normals) {
     float4 e = eye_normals[pixel];
     ns = make_float3(e.x, e.y, e.z);
   }
+  if (eye_in_blocks(eye_blocks, &bsdf, n, ns)) return;  // gathered in blocks: rb_eye_block
+  float3 wo = make_float3(h.wo[0], h.wo[1], h.wo[2]);
+  float3 wi = facing(n, bp_private3(it.omega));
+  BsdfValue v = bsdf_evaluate(&bsdf, n, wi, wo);  // about the patch normal: the weight inputs (DESIGN.md §3)
   float3 transfer = eye_brdf(&bsdf, n, ns, wi, wo, v.f) * BP_TWO_PI;
   const uint slots = eye_slots(&it);
   float4 e0 = eye_irradiance(&h, &e_in[h.patch * it.chains], patch_vertices, e_vertex, gouraud, slots, 0u);
@@ -682,4 +708,99 @@ __kernel void rb_eye(__global const EyeHit* hits, __global const BundleElement* 
     }
     pixel_sum[pixel * it.eye_outputs + 1] += (float4)(raw.x, raw.y, raw.z, 0.0f);
   }
+}
+
+// 6b. The eye estimate in blocks (eye_in_blocks): per iteration, each Lambert patch adds to its
+//     corners' block sums what rb_eye would reflect per unit f at a hit on that corner -- 2 pi beta
+//     E_in (chain 0), with --eye-direct shared 2 pi E_in of the eye chain and the light sample where
+//     it is in front, and 2 pi E_in of the raw chain -- with E_in the corner's Gouraud vertex (or the
+//     patch's own, flat). Nothing where the patch faces omega edge-on (f is 0 there, as in rb_eye).
+__kernel void rb_eye_patches(__global const BundleElement* elements, __global const uint* patch_element,
+                             __global const Material* materials, __global const Material* patch_materials,
+                             const uint uv_slots, __global const float4* e_in, __global const uint* patch_vertices,
+                             __global const float4* e_vertex, const uint gouraud, const BundleIteration it,
+                             const uint patches, __global const float4* eye_light, __global float4* eye_block) {
+  uint p = (uint)get_global_id(0);
+  if (p >= patches) return;
+  uint pe = patch_element[p];
+  float3 n = patch_normal(elements, pe);
+  Bsdf bsdf = bsdf_from_material(rb_material(materials, patch_materials, uv_slots, elements[pe & ~BP_BACK_SIDE].material, p));
+  if (!eye_in_blocks(1u, &bsdf, n, n)) return;
+  float3 wi = facing(n, bp_private3(it.omega));
+  float cos_in = dot(n, wi);
+  const float reflects = cos_in > 0.0f ? BP_TWO_PI : 0.0f;  // 2 pi, or 0 where bsdf_evaluate gives f = 0
+  float beta = 1.0f;
+  if (it.weight_mode == BP_WEIGHTS_PRODUCT)
+    beta = vertex_beta(bsdf.continuation, pdf_uv_cosine(cos_in), it.weight_ratio, it.beta_heuristic);
+  const int eye_direct = BP_FEATURE_LIGHT_SAMPLING && it.light_count > 0u && it.eye_direct_chain;
+  float light_in_front = 0.0f;
+  if (eye_direct) {
+    float4 el_dir = eye_light[2 * p + 1];
+    light_in_front = dot(n, make_float3(el_dir.x, el_dir.y, el_dir.z)) > 0.0f ? 1.0f : 0.0f;
+  }
+  const uint raw_chain = it.weight_mode == BP_WEIGHTS_PRODUCT ? it.chains - 1u : 0u;
+  const uint slots = eye_slots(&it), corners = gouraud ? 3u : 1u;
+  for (uint j = 0; j < corners; ++j) {
+    __global const float4* corner = gouraud ? &e_vertex[patch_vertices[3 * p + j] * slots] : &e_in[p * it.chains];
+    float4 sum = corner[0] * (reflects * beta);
+    if (eye_direct)
+      sum += corner[it.eye_direct_chain] * reflects +
+             (gouraud ? corner[it.chains] : eye_light[2 * p]) * light_in_front;
+    eye_block[(3 * p + j) * it.eye_outputs] += sum;
+    if (it.eye_outputs > 1) eye_block[(3 * p + j) * it.eye_outputs + 1] += corner[raw_chain] * reflects;
+  }
+}
+
+// 6c. The block's eye estimates of the pixels gathered in blocks (eye_in_blocks), added to their sums:
+//     iterations times the emission (weighted as rb_eye weighs it) plus f times the hit's
+//     interpolation of its corners' block sums; the environment, iterations times its value.
+__kernel void rb_eye_block(__global const EyeHit* hits, __global const BundleElement* elements,
+                           __global const uint* patch_element, __global const Material* materials,
+                           __global const uint* patch_vertices, const uint gouraud, const BundleIteration it,
+                           const uint pixels, __global float4* pixel_sum, __global const float4* eye_normals,
+                           __global const Material* patch_materials, const uint uv_slots,
+                           __global const float4* eye_texels, __global const float* environment_texels,
+                           __global const float4* eye_block, const float iterations) {
+  uint pixel = (uint)get_global_id(0);
+  if (pixel >= pixels) return;
+  EyeHit h = hits[pixel];
+  float3 weighted, raw;
+  if (h.patch == BP_NO_PATCH) {
+    if (h.element != BP_NO_PATCH) return;
+    weighted = eye_environment(&h, &it, environment_texels, &raw) * iterations;
+    raw *= iterations;
+  } else {
+    uint pe = patch_element[h.patch];
+    float3 n = patch_normal(elements, pe);
+    Bsdf bsdf = bsdf_from_material(rb_material(materials, patch_materials, uv_slots,
+                                               elements[pe & ~BP_BACK_SIDE].material, h.patch));
+    if (BP_FEATURE_TEXTURES && uv_slots > 0u && eye_texels[3 * pixel + 1].w > 0.0f) {  // the texel's f and emission
+      float4 kd = eye_texels[3 * pixel], ks = eye_texels[3 * pixel + 1], le = eye_texels[3 * pixel + 2];
+      bsdf_take_texel(&bsdf, make_float3(kd.x, kd.y, kd.z), make_float3(ks.x, ks.y, ks.z), kd.w,
+                      make_float3(le.x, le.y, le.z));
+    }
+    float3 ns = n;
+    if (BP_FEATURE_SHADING_NORMALS && it.shading_normals) {
+      float4 e = eye_normals[pixel];
+      ns = make_float3(e.x, e.y, e.z);
+    }
+    if (!eye_in_blocks(1u, &bsdf, n, ns)) return;  // rb_eye's, every iteration
+    float3 wo = make_float3(h.wo[0], h.wo[1], h.wo[2]);
+    float3 f = dot(n, wo) > 0.0f ? bsdf.kd * BP_INV_PI : make_float3(0.0f, 0.0f, 0.0f);
+    __global const float4* b = &eye_block[3 * h.patch * it.eye_outputs];
+    float4 block = b[0], block_raw = it.eye_outputs > 1 ? b[1] : (float4)(0.0f);
+    if (gouraud) {
+      float w0 = 1.0f - h.l1 - h.l2;
+      block = b[0] * w0 + b[it.eye_outputs] * h.l1 + b[2 * it.eye_outputs] * h.l2;
+      if (it.eye_outputs > 1) block_raw = b[1] * w0 + b[it.eye_outputs + 1] * h.l1 + b[2 * it.eye_outputs + 1] * h.l2;
+    }
+    // With light sampling the eye vertex's emission, like its direct light, is PT's alone.
+    float3 emission_weighted =
+        it.weight_mode == BP_WEIGHTS_PRODUCT && BP_FEATURE_LIGHT_SAMPLING && it.light_count > 0u
+            ? make_float3(0.0f, 0.0f, 0.0f) : bsdf.emission;
+    weighted = emission_weighted * iterations + f * make_float3(block.x, block.y, block.z);
+    raw = bsdf.emission * iterations + f * make_float3(block_raw.x, block_raw.y, block_raw.z);
+  }
+  pixel_sum[pixel * it.eye_outputs] += (float4)(weighted.x, weighted.y, weighted.z, 0.0f);
+  if (it.eye_outputs > 1) pixel_sum[pixel * it.eye_outputs + 1] += (float4)(raw.x, raw.y, raw.z, 0.0f);
 }

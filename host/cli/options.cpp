@@ -155,6 +155,9 @@ options (defaults in brackets):
                       nearest-texel lookup, light sampling by luminance x sin(theta); at most
                       8192x4096 texels, finite and >= 0 (else exit 3)
   --rb-shading S      eye estimate: gouraud (interpolated across patches) or flat  [gouraud]
+  --rb-eye-gather G   eye estimate of Lambert eye vertices: blocks (once per 16 iterations
+                      from per-patch sums, the same image to float rounding) or every
+                      (every pixel every iteration, for comparison)   [blocks]
   --stats FILE        write run statistics as JSON, with "estimated_rel_mse": the image's
                       relMSE estimated without a reference from the spread of batch means
                       (PT: batches of its rounds; RB: of --error-batch iterations, longer
@@ -233,6 +236,10 @@ RenderOptions parse_render_options(const std::vector<std::string>& args) {
            start = comma + 1;
          }
          o.environment = rgb;
+       }},
+      {"--rb-eye-gather", [&](auto& k, auto& v) {
+         if (v != "blocks" && v != "every") throw UsageError(k + ": expected blocks or every, got '" + v + "'");
+         o.eye_blocks = v == "blocks";
        }},
       {"--rb-shading", [&](auto& k, auto& v) {
          if (v != "gouraud" && v != "flat") throw UsageError(k + ": expected gouraud or flat, got '" + v + "'");

@@ -83,6 +83,7 @@ std::size_t estimate_bundle_memory(const BundleSize& size, std::uint32_t bins, s
          size.patches * 5 * sizeof(cl_float4) +  // the eye vertex's light samples and their Gouraud vertices (at most)
          size.elements * (sizeof(BundleElement) + 2 * sizeof(cl_uint)) +
          size.patches * 3 * (sizeof(cl_uint) + chains * sizeof(cl_float4)) +  // Gouraud vertices (at most 3 per patch)
+         size.patches * 3 * 2 * sizeof(cl_float4) +  // the eye block's sums per patch corner (at most 2 outputs)
          pixels * (sizeof(EyeHit) + 2 * sizeof(cl_float4) + (shading_normals ? sizeof(cl_float4) : 0) +
                    (textures ? 3 * sizeof(cl_float4) : 0));
 }
@@ -132,6 +133,10 @@ RayBundlePass::RayBundlePass(const DeviceContext& device, const DeviceScene& sce
   eye_hits_ = cl::Kernel(p, "rb_eye_hits");
   vertex_ = cl::Kernel(p, "rb_vertex");
   eye_ = cl::Kernel(p, "rb_eye");
+  eye_patches_ = cl::Kernel(p, "rb_eye_patches");
+  eye_block_gather_ = cl::Kernel(p, "rb_eye_block");
+  eye_blocks_ = settings.eye_blocks && settings.weight_mode != BP_WEIGHTS_PAPER;
+  eye_every_iteration_ = !eye_blocks_ || settings.phong || scene.has_shading_normals;
 
   elements_ = upload_buffer(device, "bundle elements", geometry.elements);
   patch_element_ = upload_buffer(device, "patch elements", geometry.patch_element);
@@ -189,6 +194,9 @@ RayBundlePass::RayBundlePass(const DeviceContext& device, const DeviceScene& sce
     views_.push_back(view);
   }
   device.queue.enqueueFillBuffer(e_in_, cl_float4{{0, 0, 0, 0}}, 0, patch_count_ * chains_ * sizeof(cl_float4));
+  const std::size_t block_bytes = (eye_blocks_ ? patch_count_ * 3 * eye_outputs_ : 1) * sizeof(cl_float4);
+  eye_block_ = make_buffer(device, "eye block sums", CL_MEM_READ_WRITE, block_bytes);
+  device.queue.enqueueFillBuffer(eye_block_, cl_float4{{0, 0, 0, 0}}, 0, block_bytes);
   ensure_fragment_capacity(static_capacity_ ? slot_count_ : dynamic_capacity(bundle_size(geometry), bins_));
   host_pixel_sum_.resize(pixel_count_ * eye_outputs_);
 }
@@ -303,6 +311,7 @@ BatchCounts RayBundlePass::run(std::uint64_t first, std::uint32_t count) {
     const std::uint64_t iteration = settings_.warmup + first + k;
     iterate(iteration);
     if (eye_rounds_ % settings_.jitter_refresh == 0) {
+      gather_eye_block();  // with the hits it was summed for
       trace_eye_hits(eye_rounds_ / settings_.jitter_refresh);
       counts.rays += pixel_count_ * views_.size();
     }
@@ -313,10 +322,19 @@ BatchCounts RayBundlePass::run(std::uint64_t first, std::uint32_t count) {
                as_uint(vertex_count_), e_vertex_, eye_light_, cl_uint(scene_.alpha_masks), scene_.element_coverage);
       launcher_.launch("rb_vertex", vertex_, vertex_count_, 64);
     }
-    for (const EyeView& view : views_) {
+    if (eye_blocks_) {  // once for every view: the patches' share of the block's eye estimates
+      set_args(eye_patches_, elements_, patch_element_, scene_.materials, scene_.patch_materials,
+               cl_uint(scene_.uv_slots), e_in_, patch_vertices_, e_vertex_, cl_uint(settings_.gouraud ? 1 : 0), it,
+               as_uint(patch_count_), eye_light_, eye_block_);
+      launcher_.launch("rb_eye_patches", eye_patches_, patch_count_, 64);
+      ++block_iterations_;
+    }
+    for (std::size_t v = 0; eye_every_iteration_ && v < views_.size(); ++v) {
+      const EyeView& view = views_[v];
       set_args(eye_, view.hits, elements_, patch_element_, scene_.materials, e_in_, patch_vertices_, e_vertex_,
                cl_uint(settings_.gouraud ? 1 : 0), it, as_uint(pixel_count_), view.pixel_sum, eye_light_,
-               view.normals, scene_.patch_materials, cl_uint(scene_.uv_slots), view.texels, scene_.environment);
+               view.normals, scene_.patch_materials, cl_uint(scene_.uv_slots), view.texels, scene_.environment,
+               cl_uint(eye_blocks_ ? 1 : 0));
       launcher_.launch("rb_eye", eye_, pixel_count_, 64);
     }
     // The device sums the eye estimates in float: move them to the host's double sums after every
@@ -329,7 +347,25 @@ BatchCounts RayBundlePass::run(std::uint64_t first, std::uint32_t count) {
   return counts;
 }
 
+void RayBundlePass::gather_eye_block() {
+  if (!eye_blocks_ || block_iterations_ == 0) return;
+  // rb_eye_block reads only what every iteration shares (the weights' mode, the outputs, the
+  // environment), not the direction: any iteration's parameters do.
+  const BundleIteration it = iteration_params(0);
+  for (const EyeView& view : views_) {
+    set_args(eye_block_gather_, view.hits, elements_, patch_element_, scene_.materials, patch_vertices_,
+             cl_uint(settings_.gouraud ? 1 : 0), it, as_uint(pixel_count_), view.pixel_sum, view.normals,
+             scene_.patch_materials, cl_uint(scene_.uv_slots), view.texels, scene_.environment, eye_block_,
+             float(block_iterations_));
+    launcher_.launch("rb_eye_block", eye_block_gather_, pixel_count_, 64);
+  }
+  device_.queue.enqueueFillBuffer(eye_block_, cl_float4{{0, 0, 0, 0}}, 0,
+                                  patch_count_ * 3 * eye_outputs_ * sizeof(cl_float4));
+  block_iterations_ = 0;
+}
+
 void RayBundlePass::flush_pixel_sums(BatchCounts& counts) {
+  gather_eye_block();
   launcher_.finish();
   const std::size_t bytes = host_pixel_sum_.size() * sizeof(cl_float4);
   cl_ulong fragments = 0;
@@ -386,6 +422,11 @@ void RayBundlePass::load_state(const State& state) {
   device_.queue.enqueueWriteBuffer(e_in_, CL_TRUE, 0, state.e_in.size() * sizeof(cl_float4), state.e_in.data());
   eye_rounds_ = state.eye_rounds;
   warmed_up_ = state.warmed_up;
+  if (eye_blocks_) {  // a state is saved after a flush: no open block
+    device_.queue.enqueueFillBuffer(eye_block_, cl_float4{{0, 0, 0, 0}}, 0,
+                                    patch_count_ * 3 * eye_outputs_ * sizeof(cl_float4));
+    block_iterations_ = 0;
+  }
   // The eye hits of the current jitter period, as the interrupted run had them.
   if (eye_rounds_ % settings_.jitter_refresh != 0) trace_eye_hits((eye_rounds_ - 1) / settings_.jitter_refresh);
 }

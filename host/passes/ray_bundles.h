@@ -31,6 +31,12 @@ struct RayBundleSettings {
   std::uint32_t bins = 0;             // R: bins per side of the transillumination buffer; 0 = default_bins
   std::uint32_t warmup = 0;           // iterations run before the first eye estimate is kept
   std::uint32_t jitter_refresh = 16;  // iterations between new jittered primary hits per pixel
+  // The eye estimate of Lambert eye vertices (flat normal; not the paper's weights) gathered once per
+  // block of iterations -- the iterations between new eye hits or flushes -- from per-patch sums
+  // (DESIGN.md §8; kernels/bundle.cl, eye_in_blocks): the same sums as every iteration's gather, in
+  // another order, for a fraction of its cost. false: every pixel every iteration (tests compare).
+  bool eye_blocks = true;
+  bool phong = true;  // some material has a Phong lobe (its eye vertices are gathered every iteration)
   bool gouraud = true;                // interpolate E_in across patches in the eye estimate
   std::uint32_t weight_mode = BP_WEIGHTS_NONE;
   float weight_ratio = 1.0f;          // N2 / N1
@@ -130,8 +136,10 @@ class RayBundlePass : public ProgressivePass {
   // Each view's jittered primary hits of this jitter period.
   void trace_eye_hits(std::uint64_t jitter_index);
   // Adds the device's float sums of eye estimates into the accumulator (double) and clears them;
-  // the fragment count since the last flush too.
+  // the fragment count since the last flush too. Gathers the open block first.
   void flush_pixel_sums(BatchCounts& counts);
+  // The eye estimates of the block's iterations at the pixels gathered in blocks, into their sums.
+  void gather_eye_block();
 
   // A view's eye gather: its primary hits (with their shading normals and texels: scenes with NORMAL,
   // with textures; else one entry each) and the device's float sums of its eye estimates.
@@ -153,7 +161,12 @@ class RayBundlePass : public ProgressivePass {
   BuiltProgram program_;
   Launcher launcher_;
   DeviceScan scan_;
-  cl::Kernel outgoing_, emit_, tile_scatter_, tile_resolve_, gather_, eye_hits_, vertex_, eye_;
+  cl::Kernel outgoing_, emit_, tile_scatter_, tile_resolve_, gather_, eye_hits_, vertex_, eye_, eye_patches_,
+      eye_block_gather_;
+  bool eye_blocks_ = false;          // some pixels are gathered in blocks (settings, not the paper's weights)
+  bool eye_every_iteration_ = true;  // some pixels may be gathered every iteration (rb_eye runs)
+  std::uint32_t block_iterations_ = 0;  // iterations in the open block
+  cl::Buffer eye_block_;             // per patch, corner and eye output: the open block's sums
   cl::Buffer elements_, patch_element_, e_in_, l_out_;
   cl::Buffer eye_light_;  // per patch: its light sample weighted for the eye vertex, and its direction
   // Fragments in per-element slots (slot_start: raster_fragment_bound of them per element).

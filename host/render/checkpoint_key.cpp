@@ -22,7 +22,8 @@ std::string options_key(const RenderSpec& o, int width, int height, float patch_
   if (o.mode != "pt")
     key += ";bins=" + std::to_string(bins) + ";warmup=" + std::to_string(o.warmup) +
            (o.contact_depth >= 0.0f ? ";contact_depth=" + std::to_string(o.contact_depth) : "") +
-           ";shading=" + (o.gouraud ? "gouraud" : "flat") + ";directions=" + o.rb_directions;
+           ";shading=" + (o.gouraud ? "gouraud" : "flat") + (o.eye_blocks ? "" : ";eye_gather=every") +
+           ";directions=" + o.rb_directions;
   if (shape)
     key += ";weights=" + o.weights + ";beta=" + o.beta + ";light_rate=" + std::to_string(o.light_rate) +
            ";eye_direct=" + eye_direct + (rb_level_corrected(o) ? ";rb_level=corrected" : "") +

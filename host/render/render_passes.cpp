@@ -192,6 +192,8 @@ void build_passes(RenderState& s) {
     rb.beta_heuristic = beta_heuristic_of(o);
     rb.light_rate = s.light_rate;
     rb.keep_raw = o.all_layers;
+    rb.eye_blocks = o.eye_blocks;
+    rb.phong = features_for(scene, s.light_sampling).phong;
     try {
       check_bundle_memory(s.rb_device().context.info, size, rb.bins, std::size_t(width) * height, bundle_chains(rb),
                           scene.has_shading_normals(), scene.has_textures());

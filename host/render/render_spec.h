@@ -32,6 +32,7 @@ struct RenderSpec {
   std::uint32_t warmup = 16;     // ray-bundle iterations before the first eye estimate
   float contact_depth = -1.0f;   // --contact-depth: touching surfaces' depth, a fraction of the scene; < 0: kContactDepthFraction
   bool gouraud = true;           // --rb-shading gouraud|flat
+  bool eye_blocks = true;        // --rb-eye-gather blocks|every
   std::string rb_directions = "independent";  // --rb-directions stratified|independent (passes/bundle_directions.h)
   double seconds = 0.0;
   double target_error = 0.0;     // --target-error: stop once the estimated relMSE is at most this; 0: none
