@@ -610,6 +610,29 @@ static int eye_in_blocks(uint eye_blocks, const Bsdf* bsdf, float3 n, float3 ns)
   return !BP_FEATURE_SHADING_NORMALS || (d.x == 0.0f && d.y == 0.0f && d.z == 0.0f);
 }
 
+// The eye vertex of a hit on a patch: its BSDF (the patch's material, whose weight inputs it keeps,
+// with the texel's f and emission at the hit), its patch normal *n and its shading normal *ns.
+static Bsdf eye_hit_bsdf(const EyeHit* h, uint pixel, const BundleIteration* it, __global const BundleElement* elements,
+                         __global const uint* patch_element, __global const Material* materials,
+                         __global const Material* patch_materials, uint uv_slots, __global const float4* eye_texels,
+                         __global const float4* eye_normals, float3* n, float3* ns) {
+  uint pe = patch_element[h->patch];
+  *n = patch_normal(elements, pe);
+  Bsdf bsdf = bsdf_from_material(rb_material(materials, patch_materials, uv_slots, elements[pe & ~BP_BACK_SIDE].material,
+                                             h->patch));
+  if (BP_FEATURE_TEXTURES && uv_slots > 0u && eye_texels[3 * pixel + 1].w > 0.0f) {  // the texel's f and emission
+    float4 kd = eye_texels[3 * pixel], ks = eye_texels[3 * pixel + 1], le = eye_texels[3 * pixel + 2];
+    bsdf_take_texel(&bsdf, make_float3(kd.x, kd.y, kd.z), make_float3(ks.x, ks.y, ks.z), kd.w,
+                    make_float3(le.x, le.y, le.z));
+  }
+  *ns = *n;
+  if (BP_FEATURE_SHADING_NORMALS && it->shading_normals) {
+    float4 e = eye_normals[pixel];
+    *ns = make_float3(e.x, e.y, e.z);
+  }
+  return bsdf;
+}
+
 // What the environment seen from the eye adds per iteration, weighted (returned) and raw (*raw): the
 // empty prefix (RB's alone under product weights, PT's where light sampling gives it the eye's emission).
 static float3 eye_environment(const EyeHit* h, const BundleIteration* it, __global const float* environment_texels,
@@ -648,20 +671,9 @@ __kernel void rb_eye(__global const EyeHit* hits, __global const BundleElement* 
     if (it.eye_outputs > 1) pixel_sum[pixel * it.eye_outputs + 1] += (float4)(env.x, env.y, env.z, 0.0f);
     return;
   }
-  uint pe = patch_element[h.patch];
-  float3 n = patch_normal(elements, pe);
-  Bsdf bsdf = bsdf_from_material(rb_material(materials, patch_materials, uv_slots, elements[pe & ~BP_BACK_SIDE].material,
-                                             h.patch));
-  if (BP_FEATURE_TEXTURES && uv_slots > 0u && eye_texels[3 * pixel + 1].w > 0.0f) {  // the texel's f and emission
-    float4 kd = eye_texels[3 * pixel], ks = eye_texels[3 * pixel + 1], le = eye_texels[3 * pixel + 2];
-    bsdf_take_texel(&bsdf, make_float3(kd.x, kd.y, kd.z), make_float3(ks.x, ks.y, ks.z), kd.w,
-                    make_float3(le.x, le.y, le.z));
-  }
-  float3 ns = n;  // the shading normal, for the reflected radiance
-  if (BP_FEATURE_SHADING_NORMALS && it.shading_normals) {
-    float4 e = eye_normals[pixel];
-    ns = make_float3(e.x, e.y, e.z);
-  }
+  float3 n, ns;  // the patch normal (the weights' inputs) and the shading normal (the reflected radiance)
+  Bsdf bsdf = eye_hit_bsdf(&h, pixel, &it, elements, patch_element, materials, patch_materials, uv_slots,
+                           eye_texels, eye_normals, &n, &ns);
   if (eye_in_blocks(eye_blocks, &bsdf, n, ns)) return;  // gathered in blocks: rb_eye_block
   float3 wo = make_float3(h.wo[0], h.wo[1], h.wo[2]);
   float3 wi = facing(n, bp_private3(it.omega));
@@ -770,20 +782,9 @@ __kernel void rb_eye_block(__global const EyeHit* hits, __global const BundleEle
     weighted = eye_environment(&h, &it, environment_texels, &raw) * iterations;
     raw *= iterations;
   } else {
-    uint pe = patch_element[h.patch];
-    float3 n = patch_normal(elements, pe);
-    Bsdf bsdf = bsdf_from_material(rb_material(materials, patch_materials, uv_slots,
-                                               elements[pe & ~BP_BACK_SIDE].material, h.patch));
-    if (BP_FEATURE_TEXTURES && uv_slots > 0u && eye_texels[3 * pixel + 1].w > 0.0f) {  // the texel's f and emission
-      float4 kd = eye_texels[3 * pixel], ks = eye_texels[3 * pixel + 1], le = eye_texels[3 * pixel + 2];
-      bsdf_take_texel(&bsdf, make_float3(kd.x, kd.y, kd.z), make_float3(ks.x, ks.y, ks.z), kd.w,
-                      make_float3(le.x, le.y, le.z));
-    }
-    float3 ns = n;
-    if (BP_FEATURE_SHADING_NORMALS && it.shading_normals) {
-      float4 e = eye_normals[pixel];
-      ns = make_float3(e.x, e.y, e.z);
-    }
+    float3 n, ns;
+    Bsdf bsdf = eye_hit_bsdf(&h, pixel, &it, elements, patch_element, materials, patch_materials, uv_slots,
+                             eye_texels, eye_normals, &n, &ns);
     if (!eye_in_blocks(1u, &bsdf, n, ns)) return;  // rb_eye's, every iteration
     float3 wo = make_float3(h.wo[0], h.wo[1], h.wo[2]);
     float3 f = dot(n, wo) > 0.0f ? bsdf.kd * BP_INV_PI : make_float3(0.0f, 0.0f, 0.0f);
