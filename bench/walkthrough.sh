@@ -2,8 +2,10 @@
 # Walkthroughs (issue #15, DESIGN.md §8): the cost per frame of F views rendered in one run (one
 # ray-bundle chain shared by all views, each view its own eye gather and PT samples) against F
 # separate renders of the same views, at equal iterations -- for --mode rb and --mode combined.
-# The views are F keys of a --camera-path walking into the Cornell box (from z = -0.8 to -0.2,
-# swaying in x, looking at the back wall): --scene must be one of the boxes (cornell-box, cornell-glossy). With the same seed
+# The views are F keys of a --camera-path: on the Cornell boxes (cornell-box, cornell-glossy) walking
+# into the box (from z = -0.8 to -0.2, swaying in x, looking at the back wall); on any other scene
+# (rooms-N, rooms-lambert-N: the house of bench/make_rooms, or a file) walking 1 m from its default
+# camera along its view, level, swaying 0.2 m sideways, looking the same way. With the same seed
 # a walk's frame k is the separate render of view k bit for bit (tests/e2e/test_walkthrough.cpp), so
 # the error per frame is equal and the cost is the whole comparison; the script checks the equality
 # (relMSE of frame k against render k: 0) on the first and the last frame of each walk.
@@ -35,18 +37,40 @@ while [ $# -gt 0 ]; do
 done
 out=${out:-$bench_root/bench/results/walkthrough}
 mkdir -p "$out"
-scene_file="$bench_root/scenes/$scene.gltf"
+: > "$out/log.txt"
+scene_file=$(bench_scene "$scene")
 
-# F keys from (0.278, 0.273, -0.8) to (0.278, 0.273, -0.2), swaying in x, each looking at the back wall.
+# The default camera (position, forward) of a scene that is not a box, from a one-frame walk's stats.
+camera_json=""
+case $scene in
+  cornell-*) ;;
+  *) camera_json="$out/camera.json"
+     "$BUNDLEPATH" render "$scene_file" --cameras all --mode pt --spp 1 --width 8 --height 8 --out "$out/camera" \
+       --stats "$camera_json" 2>> "$out/log.txt" ;;
+esac
+
+# F keys: in a box from (0.278, 0.273, -0.8) to (0.278, 0.273, -0.2), swaying in x, each looking at
+# the back wall; elsewhere from the default camera 1 m along its level view, swaying 0.2 m sideways.
 write_path() {
-  python3 - "$1" "$2" <<'PY'
-import json, sys
+  python3 - "$1" "$2" "$camera_json" <<'PY'
+import json, math, sys
 f = int(sys.argv[2])
 keys = []
+if sys.argv[3]:
+    cam = json.load(open(sys.argv[3]))["frames"][0]
+    p, d = cam["position"], cam["forward"]
+    h = math.hypot(d[0], d[2])
+    fx, fz = d[0] / h, d[2] / h  # the view, level
 for k in range(f):
     s = k / max(1, f - 1)
-    x = 0.278 + 0.1 * (2 * s - 1) * (1 - s)
-    keys.append({"position": [x, 0.273, -0.8 + 0.6 * s], "target": [0.278, 0.273, 0.56], "up": [0, 1, 0]})
+    sway = (2 * s - 1) * (1 - s)
+    if sys.argv[3]:
+        pos = [p[0] + fx * s - fz * 0.2 * sway, p[1], p[2] + fz * s + fx * 0.2 * sway]
+        keys.append({"position": pos, "target": [pos[i] + 5 * d[i] for i in range(3)], "up": [0, 1, 0],
+                     "yfov": cam["yfov"]})
+    else:
+        x = 0.278 + 0.1 * sway
+        keys.append({"position": [x, 0.273, -0.8 + 0.6 * s], "target": [0.278, 0.273, 0.56], "up": [0, 1, 0]})
 json.dump(keys, open(sys.argv[1], "w"))
 PY
 }
@@ -70,9 +94,12 @@ table="$out/walkthrough.md"
   echo "|---|---|---|---|---|---|---|---|---|"
 } > "$table"
 size_args=(--width "$size" --height "$size")
-# Untimed first: the kernel builds go to the caches, not to the first row.
-"$BUNDLEPATH" render "$scene_file" --mode combined --ratio 1 --iterations 1 --width 16 --height 16 \
-  --out "$out/warm" 2> "$out/log.txt"
+# Untimed first, each mode (its kernels are built with its own features): the kernel builds go to
+# the caches, not to the first row.
+for mode in rb combined; do
+  "$BUNDLEPATH" render "$scene_file" --mode "$mode" --ratio "$ratio" --iterations 1 --width 16 --height 16 \
+    --out "$out/warm" 2>> "$out/log.txt"
+done
 for mode in rb combined; do
   mode_args=(--mode "$mode")
   [ "$mode" = combined ] && mode_args+=(--ratio "$ratio")
