@@ -157,7 +157,8 @@ options (defaults in brackets):
   --rb-shading S      eye estimate: gouraud (interpolated across patches) or flat  [gouraud]
   --rb-eye-gather G   eye estimate of Lambert eye vertices: blocks (once per 16 iterations
                       from per-patch sums, the same image to float rounding) or every
-                      (every pixel every iteration, for comparison)   [blocks]
+                      (every pixel every iteration, for comparison; also what
+                      --weights paper does)   [blocks]
   --stats FILE        write run statistics as JSON, with "estimated_rel_mse": the image's
                       relMSE estimated without a reference from the spread of batch means
                       (PT: batches of its rounds; RB: of --error-batch iterations, longer

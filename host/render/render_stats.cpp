@@ -72,7 +72,9 @@ void add_ray_bundle_stats(const RenderState& s, const RenderResult& r, nlohmann:
   stats["warmup_iterations"] = o.warmup;
   stats["bins"] = s.rb->bins();
   stats["contact_depth"] = s.rb_settings.contact_depth_fraction;
-  stats["rb_eye_gather"] = s.rb_settings.eye_blocks ? "blocks" : "every";
+  // The paper's weights gather every iteration whatever was asked (kernels/bundle.cl, eye_in_blocks).
+  stats["rb_eye_gather"] =
+      s.rb_settings.eye_blocks && s.rb_settings.weight_mode != BP_WEIGHTS_PAPER ? "blocks" : "every";
   stats["rb_directions"] = s.rb_settings.directions == DirectionSequence::independent ? "independent" : "stratified";
   stats["elements"] = s.geometry->elements.size();
   stats["fragments_per_iteration"] = iterations > 0 ? double(outcome.fragments) / iterations : 0.0;
