@@ -72,8 +72,7 @@ void start_error_estimate(RenderState& s) {
         !s.resumed ? nullptr : k ? &s.resumed->further_views[k - 1].error_estimate : &s.resumed->error_estimate;
     // A checkpoint of before the layers were estimated apart holds one estimate of their sum: the
     // resumed render's estimate starts afresh where that does not fit.
-    if (saved && saved->size() != layers.size()) saved = nullptr;
-    if (saved && saved->empty()) saved = nullptr;
+    if (saved && saved->size() != layers.size()) saved = nullptr;  // also a checkpoint of before #16: none
     view.error_estimate.emplace(s.scene.width, s.scene.height, std::move(layers), o.error_levels, s.first_round,
                                 saved);
   }
