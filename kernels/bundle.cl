@@ -55,22 +55,28 @@ typedef struct {
   float3 irradiance;  // unweighted, over the rate
   float pdf_light;    // p_L of wi (uv)
   int is_delta;
+  float select_probability;  // P(choosing the light) for this patch
+  float own_samples;  // --rb-sun own: the light's samples of its own per iteration (delta_light_weights)
 } PatchLightSample;
 
+// pick: the light for the patch (forced, for a sun's own sample), or BP_NO_LIGHT to choose one.
 static PatchLightSample rb_light_sample(__global const BundleElement* e, float3 n, __global const BvhNode* nodes,
                                         __global const BvhTriangle* triangles, const LightSet* light_set,
                                         uint patch, __global const Material* materials, const BundleIteration* it,
                                         Rng* rng, float ray_epsilon, __global const TriangleShading* shading,
-                                        uint alpha_masks) {
+                                        uint alpha_masks, LightPick pick) {
   PatchLightSample out;
   out.irradiance = make_float3(0.0f, 0.0f, 0.0f);
   float root = sqrt(rng_uniform(rng)), u = rng_uniform(rng);  // uniform on the element
   float3 x = bp_load3(e->v0) + bp_load3(e->e1) * (root * (1.0f - u)) + bp_load3(e->e2) * (root * u) + n * ray_epsilon;
   float u_pick = rng_uniform(rng), u1 = rng_uniform(rng), u2 = rng_uniform(rng);
-  LightSample ls = light_sample(light_set, materials, patch, x, u_pick, u1, u2);
+  if (pick.light == BP_NO_LIGHT) pick = light_select(light_set, patch, u_pick);
+  LightSample ls = light_sample_picked(light_set, materials, pick, x, u1, u2);
   out.wi = ls.wi;
   out.pdf_light = ls.pdf_uv;
   out.is_delta = ls.is_delta;
+  out.select_probability = ls.select_probability;
+  out.own_samples = light_set->lights[ls.light].type == BP_LIGHT_DIRECTIONAL ? (float)it->sun_own_samples : 0.0f;
   float cos_x = dot(n, ls.wi);
   if (!(cos_x > 0.0f) || ls.radiance_over_pdf.x + ls.radiance_over_pdf.y + ls.radiance_over_pdf.z <= 0.0f) return out;
   float t_max = ls.is_delta ? ls.distance : ls.distance - 4.0f * ray_epsilon;
@@ -89,6 +95,9 @@ static float3 rb_light_reflected(const PatchLightSample* ls, const Bsdf* bsdf, f
   BsdfValue v = bsdf_evaluate(bsdf, n, ls->wi, wo);
   float pdf_bsdf = bsdf->continuation * v.pdf_uv;
   float w = last_segment_weights(1.0f, it->weight_ratio, it->light_rate, pdf_bsdf, ls->pdf_light, ls->is_delta).rb_light;
+  if (ls->own_samples > 0.0f)  // a sun that its own samples also reach (--rb-sun own)
+    w = delta_light_weights(1.0f, it->weight_ratio, it->light_rate, ls->select_probability, ls->own_samples).rb_light *
+        rb_delta_sample_share(ls->select_probability, ls->own_samples);
   return v.f * ls->irradiance * w;  // f L cos / p_solid, weighted
 }
 
@@ -123,6 +132,7 @@ __kernel void rb_outgoing(__global const BundleElement* elements, __global const
   PatchLightSample ls;
   ls.irradiance = make_float3(0.0f, 0.0f, 0.0f);
   ls.wi = n;  // where no sample is taken: a direction rb_eye may reflect zero along
+  float3 sun_reflected = make_float3(0.0f, 0.0f, 0.0f);  // --rb-sun own: the suns' own samples, weighted
   if (light_sampling) {
     Rng rng = rng_init(light_seed, p, iteration);
     LightSet light_set_ = light_set(lights, light_cdf, light_tree, light_receivers, it.light_count, light_selection);
@@ -130,9 +140,20 @@ __kernel void rb_outgoing(__global const BundleElement* elements, __global const
     light_set_.textures = textures;  // emissive textures at the sampled point
     light_set_.environment = environment_map(environment, it.environment_width, it.environment_height);
     // a black patch reflects no light sample; the others take one at the rate it.light_rate
-    if (bsdf.continuation > 0.0f && (it.light_rate >= 1.0f || rng_uniform(&rng) < it.light_rate))
-      ls = rb_light_sample(&elements[pe & ~BP_BACK_SIDE], n, nodes, triangles, &light_set_, p, materials, &it, &rng,
-                           ray_epsilon, shading, alpha_masks);
+    if (bsdf.continuation > 0.0f && (it.light_rate >= 1.0f || rng_uniform(&rng) < it.light_rate)) {
+      __global const BundleElement* element = &elements[pe & ~BP_BACK_SIDE];
+      LightPick choose = {BP_NO_LIGHT, 0.0f};
+      ls = rb_light_sample(element, n, nodes, triangles, &light_set_, p, materials, &it, &rng, ray_epsilon, shading,
+                           alpha_masks, choose);
+      // and one of each directional light, whichever was chosen (the lights' list ends with them)
+      for (uint l = it.light_count; it.sun_own_samples > 0u && l-- > 0u && light_is_infinite(lights[l].type);) {
+        if (lights[l].type != BP_LIGHT_DIRECTIONAL) continue;
+        LightPick sun = {l, light_select_probability(&light_set_, p, l)};
+        PatchLightSample own = rb_light_sample(element, n, nodes, triangles, &light_set_, p, materials, &it, &rng,
+                                               ray_epsilon, shading, alpha_masks, sun);
+        sun_reflected += rb_light_reflected(&own, &bsdf, n, wo, &it);
+      }
+    }
   }
   if (eye_chain < it.chains) {
     // The same sample for the eye vertex (--eye-direct shared): its irradiance weighted as the RB
@@ -159,7 +180,8 @@ __kernel void rb_outgoing(__global const BundleElement* elements, __global const
       w = paper_log_pstar_step(bsdf.continuation, v.pdf_uv, e.w);  // (10)
     if (c == 0 && light_sampling) {
       float4 direct = e_in[p * it.chains + it.direct_chain];  // already weighted per fragment
-      reflected += transfer * make_float3(direct.x, direct.y, direct.z) + rb_light_reflected(&ls, &bsdf, n, wo, &it);
+      reflected += transfer * make_float3(direct.x, direct.y, direct.z) + rb_light_reflected(&ls, &bsdf, n, wo, &it) +
+                   sun_reflected;
       emitted = make_float3(0.0f, 0.0f, 0.0f);
     }
     if (light_sampling && (c == it.direct_chain || c == eye_chain))
@@ -312,7 +334,8 @@ static float4 rb_environment_received(__global const BundleElement* elements, __
   if (c == 0u && light_sampling) return (float4)(0.0f, 0.0f, 0.0f, BP_NO_SENDER);
   float3 env = environment_radiance(&light_set->environment, -travel);
   if (c != direct && c != eye) return (float4)(env.x, env.y, env.z, 0.0f);
-  if (env.x + env.y + env.z <= 0.0f) return (float4)(0.0f);
+  // the back of a one-sided element has no patch to receive it (nor to choose lights for)
+  if (env.x + env.y + env.z <= 0.0f || receiver_patch == BP_NO_PATCH) return (float4)(0.0f);
   Bsdf receiver =
       bsdf_from_material(rb_material(materials, patch_materials, uv_slots, elements[receiver_element].material, receiver_patch));
   float3 wi = facing(n_receiver, travel);

@@ -94,6 +94,11 @@ static void add_light_sample(const SceneRefs* scene, const PathTraceParams* para
   float3 contribution = throughput * v.f * ls.radiance_over_pdf * cos_shading;
   LastSegmentWeights w = pt_last_segment_weights(params, depth, prefix_beta, pdf_bsdf_patch, pdf_bsdf,
                                                  eye_direct_proxy_pdf_uv(bsdf, cos_x), ls.pdf_uv, ls.is_delta);
+  // --rb-sun own: RB's patches also take samples of the sun of their own, at every vertex but the
+  // eye's (whose share, under --eye-direct shared, RB takes from its chosen sample alone)
+  if (depth > 0u && params->rb_sun_own_samples > 0u && scene->lights.lights[ls.light].type == BP_LIGHT_DIRECTIONAL)
+    w = delta_light_weights(prefix_beta, params->weight_ratio, params->rb_light_rate, ls.select_probability,
+                            (float)params->rb_sun_own_samples);
   // The raw layer's PT-alone weights: the same as w without a prefix (pt mode, the eye vertex).
   LastSegmentWeights alone =
       prefix_beta > 0.0f ? last_segment_split(0.0f, params->weight_ratio, params->rb_light_rate, pdf_bsdf_patch,

@@ -94,6 +94,11 @@ options (defaults in brackets):
   --rb-light-rate R   combined with light sampling: the probability that a patch traces its
                       shadow ray in an iteration, in (0, 1] (the weights count R·N2 samples)
                                                                 [min(1, pixels / patches)]
+  --rb-sun S          combined with light sampling: how RB's patches sample directional lights:
+                      chosen (only when their light sample chooses the sun, like any other
+                      light) or own (every patch that takes its light sample also takes one
+                      of each sun, every iteration: the weights then give RB more of the
+                      sun's light after the eye vertex, and PT less)            [chosen]
   --eye-direct E      combined with light sampling: the eye vertex's direct light split with
                       RB by the four techniques (shared; RB's share from a view-independent
                       proxy of PT's density: smooth, but blurred to RB's patches), PT's alone
@@ -127,8 +132,9 @@ options (defaults in brackets):
                       (KHR_lights_punctual) are reached by light sampling only
   --light-selection S light sampling: how a light is chosen for a receiving patch: tree (a
                       BVH over the lights bounding power, position and orientation; nearby,
-                      facing lights are chosen more often) or power (by power alone, the same
-                      for every receiver)                                         [tree]
+                      facing lights are chosen more often; suns and the environment by power,
+                      less often where the patch's 16 test rays do not reach them) or power (by
+                      power alone, the same for every receiver)                   [tree]
   --kernels K         specialised (built with only the features the scene and options use:
                       Phong lobe, light sampling) or generic (everything)  [specialised]
   --layers all        also write the unweighted pt_raw and rb_raw layers
@@ -264,6 +270,10 @@ RenderOptions parse_render_options(const std::vector<std::string>& args) {
          if (v != "shared" && v != "pt" && v != "auto")
            throw UsageError(k + ": expected shared, pt or auto, got '" + v + "'");
          o.eye_direct = v;
+       }},
+      {"--rb-sun", [&](auto& k, auto& v) {
+         if (v != "own" && v != "chosen") throw UsageError(k + ": expected own or chosen, got '" + v + "'");
+         o.rb_sun_own = v == "own";
        }},
       {"--rb-light-rate", [&](auto& k, auto& v) {
          o.light_rate = parse_number<float>(k, v, 1e-6f, 1.0f, "a probability in (0, 1]");

@@ -104,7 +104,7 @@ DeviceScene::DeviceScene(const DeviceContext& device, const Scene& scene, const 
   std::vector<LightReceiver> receivers_in;
   if (selection == BP_LIGHT_SELECTION_TREE && !light_list.lights.empty()) {
     tree_in = build_light_tree(light_list, scene, ray_epsilon);  // also writes each light's trail
-    receivers_in = build_light_receivers(scene, patches, light_list, ray_epsilon);
+    receivers_in = build_light_receivers(scene, patches, light_list, ray_epsilon, &bvh);
   }
   tree_in = at_least_one(std::move(tree_in));
   receivers_in = at_least_one(std::move(receivers_in));

@@ -13,15 +13,17 @@ BP_CHECK_LAYOUT(TriangleShading, 32);
 static_assert(offsetof(TriangleShading, material) == 12 && offsetof(TriangleShading, area) == 24);
 BP_CHECK_LAYOUT(CameraParams, 64);
 static_assert(offsetof(CameraParams, right) == 16 && offsetof(CameraParams, forward) == 48);
-BP_CHECK_LAYOUT(PathTraceParams, 64);
-static_assert(offsetof(PathTraceParams, environment_width) == 48 && offsetof(PathTraceParams, environment_light) == 56);
+BP_CHECK_LAYOUT(PathTraceParams, 80);
+static_assert(offsetof(PathTraceParams, environment_width) == 48 && offsetof(PathTraceParams, environment_light) == 56 &&
+              offsetof(PathTraceParams, rb_sun_own_samples) == 64);
 BP_CHECK_LAYOUT(PixelAccum, 32);
 static_assert(offsetof(PixelAccum, raw) == 16);
 
 #include "kernels/shared/bundle_types.h"
 BP_CHECK_LAYOUT(BundleElement, 64);
-BP_CHECK_LAYOUT(BundleIteration, 144);
-static_assert(offsetof(BundleIteration, environment_width) == 128 && offsetof(BundleIteration, environment_light) == 136 && offsetof(BundleIteration, contact_depth) == 140);
+BP_CHECK_LAYOUT(BundleIteration, 160);
+static_assert(offsetof(BundleIteration, environment_width) == 128 && offsetof(BundleIteration, environment_light) == 136 && offsetof(BundleIteration, contact_depth) == 140 &&
+              offsetof(BundleIteration, sun_own_samples) == 144);
 static_assert(offsetof(BundleIteration, omega_prev) == 64 && offsetof(BundleIteration, weight_ratio) == 88 &&
               offsetof(BundleIteration, omega_next) == 96);
 BP_CHECK_LAYOUT(EyeHit, 32);
@@ -36,5 +38,6 @@ static_assert(offsetof(Light, axis) == 48 && offsetof(Light, intensity) == 64 &&
 BP_CHECK_LAYOUT(LightTreeNode, 64);
 static_assert(offsetof(LightTreeNode, hi) == 16 && offsetof(LightTreeNode, axis) == 32 &&
               offsetof(LightTreeNode, child) == 48);
-BP_CHECK_LAYOUT(LightReceiver, 32);
-static_assert(offsetof(LightReceiver, normal) == 16 && offsetof(LightReceiver, light) == 28);
+BP_CHECK_LAYOUT(LightReceiver, 48);
+static_assert(offsetof(LightReceiver, normal) == 16 && offsetof(LightReceiver, light) == 28 &&
+              offsetof(LightReceiver, infinite_visibility) == 32);

@@ -14,6 +14,7 @@ PathTracerPass::PathTracerPass(const DeviceContext& device, const DeviceScene& s
   params_.weight_ratio = settings.weight_ratio;
   params_.beta_heuristic = settings.beta_heuristic;
   params_.rb_light_rate = settings.rb_light_rate;
+  params_.rb_sun_own_samples = settings.rb_sun_own ? 1u : 0u;
   params_.light_count = settings.light_sampling ? scene.light_count : 0u;
   params_.eye_direct_shared = settings.eye_direct_shared && settings.weight_mode == BP_WEIGHTS_PRODUCT ? 1u : 0u;
   params_.shading_normals = scene.has_shading_normals;

@@ -254,6 +254,7 @@ BundleIteration RayBundlePass::iteration_params(std::uint64_t iteration) const {
   it.weight_ratio = settings_.weight_ratio;
   it.beta_heuristic = settings_.beta_heuristic;
   it.light_rate = settings_.light_rate;
+  it.sun_own_samples = settings_.sun_own ? 1u : 0u;
   it.eye_outputs = eye_outputs_;
   it.light_count = samples_lights(settings_) ? scene_.light_count : 0u;
   it.direct_chain = samples_lights(settings_) ? 1u : 0u;

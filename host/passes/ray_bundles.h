@@ -42,6 +42,7 @@ struct RayBundleSettings {
   float weight_ratio = 1.0f;          // N2 / N1
   std::uint32_t beta_heuristic = BP_BETA_CLAMPED;  // product weights' per-vertex beta (BP_BETA_*)
   float light_rate = 1.0f;            // probability that a patch traces its light sample in an iteration
+  bool sun_own = false;               // --rb-sun own: that patch also samples each directional light
   bool keep_raw = false;              // also the unweighted image (rb_raw)
   bool light_sampling = false;        // per-patch light samples and per-fragment weighted direct light
                                       // (DESIGN.md §3); product weights only, where the scene has lights

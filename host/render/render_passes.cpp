@@ -170,6 +170,7 @@ void build_passes(RenderState& s) {
     settings.weight_ratio = s.ratio_n2_over_n1;
     settings.beta_heuristic = beta_heuristic_of(o);
     settings.rb_light_rate = s.light_rate;
+    settings.rb_sun_own = s.light_sampling && s.use_rb && o.rb_sun_own;
     settings.light_sampling = s.light_sampling;
     settings.eye_direct_shared = s.eye_direct_shared;
     settings.kernel_options = s.kernel_options;
@@ -191,6 +192,7 @@ void build_passes(RenderState& s) {
     rb.weight_ratio = s.ratio_n2_over_n1;
     rb.beta_heuristic = beta_heuristic_of(o);
     rb.light_rate = s.light_rate;
+    rb.sun_own = s.light_sampling && o.rb_sun_own;
     rb.keep_raw = o.all_layers;
     rb.eye_blocks = o.eye_blocks;
     rb.phong = features_for(scene, s.light_sampling).phong;

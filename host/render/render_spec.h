@@ -45,6 +45,7 @@ struct RenderSpec {
   std::string beta = "clamped";     // product weights: the per-vertex beta, clamped or balance
   float light_rate = 0.0f;          // combined + light sampling: RB's light-sample rate; 0: default_light_rate
   std::string eye_direct = "auto";  // combined + light sampling: the eye vertex's direct light, shared, pt or auto
+  bool rb_sun_own = false;          // combined + light sampling: --rb-sun own (RB samples each sun every iteration)
   double ratio = -1.0;           // combined: PT samples per pixel per RB iteration (0: RB alone); < 0: auto
   std::string rb_level = "corrected";  // combined, product weights: RB's layer level, corrected (from PT's too) or own
   bool all_layers = false;       // --layers all: also pt_raw and rb_raw

@@ -40,6 +40,7 @@ void add_combination_stats(const RenderState& s, nlohmann::json& stats) {
   if (s.weight_mode == BP_WEIGHTS_PRODUCT) stats["beta"] = o.beta;
   if (s.light_sampling && s.rb) stats["rb_light_rate"] = s.light_rate;
   if (s.light_sampling && s.rb) stats["eye_direct"] = s.eye_direct_shared ? "shared" : "pt";
+  if (s.light_sampling && s.rb) stats["rb_sun"] = s.spec.rb_sun_own ? "own" : "chosen";
   // c; PT alone (c = ∞, which JSON has no number for): the string "inf" (Python's float() reads it).
   const nlohmann::json ratio = shape.pt_alone() ? nlohmann::json("inf") : nlohmann::json(shape.ratio());
   stats["ratio"] = ratio;

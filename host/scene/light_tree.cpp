@@ -276,10 +276,53 @@ std::vector<LightTreeNode> build_light_tree(LightList& lights, const Scene& scen
   return b.nodes;
 }
 
+namespace {
+
+// The points of infinite_visibility: a stratified (0, 2)-sequence in the unit square (x by rank,
+// y its base-2 radical inverse), mapped onto the patch or to cosine-distributed directions.
+glm::dvec2 visibility_point(int j) {
+  std::uint32_t bits = std::uint32_t(j), reversed = 0;
+  for (int b = 0; b < 4; ++b, bits >>= 1) reversed = reversed << 1 | (bits & 1u);  // kVisibilityRays = 2^4
+  return {(j + 0.5) / kVisibilityRays, (reversed + 0.5) / kVisibilityRays};
+}
+
+// How much of the infinite lights reaches a patch with corners c and unit normal n: per light, the
+// share of kVisibilityRays rays from points spread over the patch (offset along n) that leave the
+// scene -- towards a sun, or along cosine-distributed directions for the environment -- averaged
+// with the lights' power shares, at least 1 / kVisibilityRays.
+float infinite_visibility(const glm::dvec3 c[3], const glm::dvec3& n, const LightList& lights, const FlatBvh& bvh,
+                          float offset) {
+  double seen = 0.0, share = 0.0;
+  const glm::dvec3 helper = std::abs(n.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
+  const glm::dvec3 t = glm::normalize(glm::cross(n, helper)), b = glm::cross(n, t);
+  for (const Light& l : lights.lights) {
+    if (l.type != BP_LIGHT_DIRECTIONAL && l.type != BP_LIGHT_ENVIRONMENT) continue;
+    const glm::dvec3 to_sun = -glm::dvec3(l.axis[0], l.axis[1], l.axis[2]);
+    int escaped = 0;
+    for (int j = 0; j < kVisibilityRays && (l.type != BP_LIGHT_DIRECTIONAL || glm::dot(n, to_sun) > 0.0); ++j) {
+      const glm::dvec2 u = visibility_point(j);
+      const double root = std::sqrt(u.x);  // uniform on the triangle, and cosine about n (Malley)
+      const glm::dvec3 p = c[0] * (1.0 - root) + c[1] * (root * (1.0 - u.y)) + c[2] * (root * u.y) + n * (4.0 * offset);
+      const double phi = 2.0 * kPi * u.y;
+      const glm::dvec3 dir = l.type == BP_LIGHT_DIRECTIONAL
+                                 ? to_sun
+                                 : t * (root * std::cos(phi)) + b * (root * std::sin(phi)) + n * std::sqrt(1.0 - u.x);
+      escaped += !bvh_occluded(bvh.nodes.data(), bvh.triangles.data(), make_float3(float(p.x), float(p.y), float(p.z)),
+                               make_float3(float(dir.x), float(dir.y), float(dir.z)), BP_FLOAT_MAX);
+    }
+    seen += double(l.select_probability) * escaped / kVisibilityRays;
+    share += double(l.select_probability);
+  }
+  return share > 0.0 ? float(std::max(seen / share, 1.0 / kVisibilityRays)) : 1.0f;
+}
+
+}  // namespace
+
 std::vector<LightReceiver> build_light_receivers(const Scene& scene, const PatchLayout& patches,
-                                                 const LightList& lights, float offset) {
+                                                 const LightList& lights, float offset, const FlatBvh* bvh) {
   std::vector<LightReceiver> out(patches.patch_count);
-  for_each_sub_triangle(scene, patches, [&](const SubTriangle& sub) {
+  const bool infinite = !lights.lights.empty() && light_is_infinite(lights.lights.back().type);
+  for_each_sub_triangle_in_parallel(scene, patches, [&](const SubTriangle& sub) {
     const SceneTriangle& tri = scene.triangles[sub.triangle];
     const std::uint32_t light =
         lights.light_of_triangle.empty() ? BP_NO_LIGHT : lights.light_of_triangle[sub.triangle];
@@ -301,6 +344,9 @@ std::vector<LightReceiver> build_light_receivers(const Scene& scene, const Patch
       }
       rec.radius = r;
       rec.light = light;
+      rec.infinite_visibility =
+          infinite && bvh ? infinite_visibility(c, glm::dvec3(side == 0 ? sub.normal : -sub.normal), lights, *bvh, offset)
+                          : 1.0f;
     }
   });
   return out;

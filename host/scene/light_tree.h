@@ -17,9 +17,15 @@ namespace bp {
 std::vector<LightTreeNode> build_light_tree(LightList& lights, const Scene& scene, float offset);
 
 // One receiver per patch: its centroid, front normal (flipped for a back side), the radius of a
-// sphere about the centroid that holds the patch grown by `offset` (the rays' offset), and the light
-// the patch's triangle is.
+// sphere about the centroid that holds the patch grown by `offset` (the rays' offset), the light
+// the patch's triangle is, and with a BVH how much of the directional lights and the environment
+// reaches it (infinite_visibility; without one, all of it).
 std::vector<LightReceiver> build_light_receivers(const Scene& scene, const PatchLayout& patches,
-                                                 const LightList& lights, float offset);
+                                                 const LightList& lights, float offset,
+                                                 const FlatBvh* bvh = nullptr);
+
+// Rays per patch and infinite light of infinite_visibility, and its floor, 1 / kVisibilityRays: a
+// patch where none of them reaches the light keeps a chance as if one had.
+constexpr int kVisibilityRays = 16;
 
 }  // namespace bp

@@ -116,17 +116,6 @@ template <class Visit> void for_each_patch_point(const SubTriangle& sub, Visit&&
 
 constexpr double kPatchPoints = double(kPatchMeanSamplesPerSide) * kPatchMeanSamplesPerSide;
 
-// for_each_sub_triangle with the triangles split among the host's threads (the means cost some 10 us
-// per patch); visit must only write what its own sub-triangle owns.
-template <class Visit> void for_each_sub_triangle_in_parallel(const Scene& scene, const PatchLayout& patches, Visit&& visit) {
-  const std::size_t n = scene.triangles.size();
-  const std::size_t threads = std::clamp<std::size_t>(std::thread::hardware_concurrency(), 1, (n + 63) / 64);
-  std::vector<std::thread> pool;
-  for (std::size_t i = 0; i < threads; ++i)
-    pool.emplace_back([&, i] { for_each_sub_triangle(scene, patches, visit, n * i / threads, n * (i + 1) / threads); });
-  for (std::thread& t : pool) t.join();
-}
-
 }  // namespace
 
 std::vector<Material> patch_mean_materials(const Scene& scene, const PatchLayout& patches,

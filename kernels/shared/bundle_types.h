@@ -60,6 +60,9 @@ typedef struct {
   bp_u32 environment_height;  //   kernels/shared/environment_map.h); 0 x 0: none
   bp_u32 environment_light;   // its index among the lights to sample; BP_NO_LIGHT: not sampled (p_L = 0)
   float contact_depth;      // metres: consecutive fragments of a bin closer than this along omega touch (no transfer)
+  bp_u32 sun_own_samples;   // --rb-sun own: 1, a patch that takes its light sample also takes one of each
+                            // directional light (delta_light_weights); 0: the sun only when chosen
+  bp_u32 pad[3];
 } BundleIteration;
 
 // Chains per patch and fragment: chain 0 is the weighted one. With light sampling (product weights)

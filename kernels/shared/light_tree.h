@@ -32,6 +32,9 @@ typedef struct {
   float radius;         // every point of the patch (plus the rays' offset) lies within it of centroid
   float normal[3];      // the patch's flat front normal
   bp_u32 light;         // the light this patch is part of (an emissive triangle's side), BP_NO_LIGHT
+  float infinite_visibility;  // how much of the directional lights and the environment reaches the
+                              // patch, in (0, 1]: scales their share of its choice (lights.h)
+  float pad[3];
 } LightReceiver;
 
 // cos and sin of max(0, a - b) given those of a and b (angles in [0, pi]).

@@ -48,6 +48,8 @@ typedef struct {
   float3 radiance_over_pdf;  // incident radiance over the solid-angle density of wi: the estimator's L/p
   float pdf_uv;          // density of wi in the uv measure (2 pi p_solid); unused for a delta light
   int is_delta;          // point, spot and directional lights: only light sampling reaches them
+  bp_u32 light;          // the light chosen
+  float select_probability;  // P(choosing it | the receiving patch)
 } LightSample;
 
 // Index of the light whose cdf interval holds u (cdf[i] = sum of select probabilities up to i).
@@ -151,9 +153,8 @@ BP_FN LightPick light_leaf_pick(const LightSet* set, BP_GLOBAL const LightTreeNo
 }
 
 // Directional lights and the environment have no position for the tree to bound: they are the
-// lights after the tree's, chosen with their share of the power (select_probability) for every
-// receiver, the tree's lights with the rest. Their total share, and the index of the first of them
-// (count: none).
+// lights after the tree's, chosen among themselves by their share of the power (select_probability).
+// Their total share of the power, and the index of the first of them (count: none).
 BP_FN float light_directional_share(const LightSet* set, bp_u32* first) {
   float share = 0.0f;
   bp_u32 i = set->count;
@@ -162,15 +163,26 @@ BP_FN float light_directional_share(const LightSet* set, bp_u32* first) {
   return share;
 }
 
+// Their share of the choice for one receiving patch: the power share S, its odds against the tree's
+// lights scaled by how much of them reaches the patch (LightReceiver.infinite_visibility, v):
+//   S_r = S v / (S v + 1 - S);  all of it where they are all the lights. A patch that the sun cannot
+// see rarely spends its sample on it; v > 0 keeps every light possible, so the estimate unbiased.
+BP_FN float light_infinite_share(const LightSet* set, bp_u32 receiver_patch, float share, bp_u32 first_infinite) {
+  if (first_infinite == 0u) return 1.0f;
+  if (!(share > 0.0f)) return 0.0f;
+  const float odds = share * set->receivers[receiver_patch].infinite_visibility;
+  return odds / (odds + (1.0f - share));
+}
+
 // A light for the receiving patch, and its selection probability.
 BP_FN LightPick light_select(const LightSet* set, bp_u32 receiver_patch, float u) {
   if (set->selection == BP_LIGHT_SELECTION_TREE) {
     bp_u32 first_directional;
-    const float directional = light_directional_share(set, &first_directional);
-    if (first_directional < set->count && (u < directional || first_directional == 0u)) {
-      // by power among the directional lights; where they are all the lights, they share the whole
-      const float total = first_directional == 0u ? directional : 1.0f;
-      float target = first_directional == 0u ? u * directional : u, running = 0.0f;
+    const float power_share = light_directional_share(set, &first_directional);
+    const float directional = light_infinite_share(set, receiver_patch, power_share, first_directional);
+    if (first_directional < set->count && u < directional) {
+      // by power among the directional lights and the environment, u rescaled into their power
+      float target = u / directional * power_share, running = 0.0f;
       LightPick pick;
       pick.light = set->count - 1u;
       for (bp_u32 i = first_directional; i < set->count; ++i) {
@@ -180,7 +192,7 @@ BP_FN LightPick light_select(const LightSet* set, bp_u32 receiver_patch, float u
           break;
         }
       }
-      pick.probability = set->lights[pick.light].select_probability / total;
+      pick.probability = set->lights[pick.light].select_probability / power_share * directional;
       return pick;
     }
     const float tree_share = 1.0f - directional;
@@ -202,8 +214,9 @@ BP_FN float light_select_probability(const LightSet* set, bp_u32 receiver_patch,
   BP_GLOBAL const Light* l = &set->lights[light];
   if (set->selection != BP_LIGHT_SELECTION_TREE) return l->select_probability;
   bp_u32 first_directional;
-  const float directional = light_directional_share(set, &first_directional);
-  if (light_is_infinite(l->type)) return l->select_probability / (first_directional == 0u ? directional : 1.0f);
+  const float power_share = light_directional_share(set, &first_directional);
+  const float directional = light_infinite_share(set, receiver_patch, power_share, first_directional);
+  if (light_is_infinite(l->type)) return l->select_probability / power_share * directional;
   bp_u32 leaf = 0u;
   float p = light_tree_probability(set->tree, &set->receivers[receiver_patch], l->tree_trail[0], l->tree_trail[1],
                                    l->tree_depth, &leaf);
@@ -222,13 +235,13 @@ BP_FN float light_pdf_area_from(const LightSet* set, BP_GLOBAL const Material* m
   return light_select_probability(set, receiver_patch, light) / set->lights[light].area;
 }
 
-// Samples a light for the receiving patch (u_pick) and a point on it (u1, u2) as seen from x, a
-// point of that patch.
-BP_FN LightSample light_sample(const LightSet* set, BP_GLOBAL const Material* materials, bp_u32 receiver_patch,
-                               float3 x, float u_pick, float u1, float u2) {
+// Samples a point (u1, u2) of the light `pick` chose, as seen from x.
+BP_FN LightSample light_sample_picked(const LightSet* set, BP_GLOBAL const Material* materials, LightPick pick,
+                                      float3 x, float u1, float u2) {
   LightSample s;
-  LightPick pick = light_select(set, receiver_patch, u_pick);
   BP_GLOBAL const Light* l = &set->lights[pick.light];
+  s.light = pick.light;
+  s.select_probability = pick.probability;
   float3 target = bp_load3(l->position);
   float root = sqrt(u1);
   if (l->type == BP_LIGHT_TRIANGLE) {  // uniform on the triangle: barycentrics (1 - sqrt u1, sqrt u1 (1 - u2), sqrt u1 u2)
@@ -276,6 +289,13 @@ BP_FN LightSample light_sample(const LightSet* set, BP_GLOBAL const Material* ma
     s.radiance_over_pdf = bp_load3(l->intensity) * (falloff / (s.distance * s.distance * pick.probability));
   }
   return s;
+}
+
+// Samples a light for the receiving patch (u_pick) and a point on it (u1, u2) as seen from x, a
+// point of that patch.
+BP_FN LightSample light_sample(const LightSet* set, BP_GLOBAL const Material* materials, bp_u32 receiver_patch,
+                               float3 x, float u_pick, float u1, float u2) {
+  return light_sample_picked(set, materials, light_select(set, receiver_patch, u_pick), x, u1, u2);
 }
 
 // p_L of a ray from the receiving patch that leaves the scene along wi: the environment light's

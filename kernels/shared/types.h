@@ -59,6 +59,8 @@ typedef struct {
   bp_u32 environment_height; //   kernels/shared/environment_map.h); 0 x 0: none
   bp_u32 environment_light;  // its index among the lights to sample; BP_NO_LIGHT: not sampled (p_L = 0)
   bp_u32 uv_slots;           // texcoord sets per triangle (kernels/shared/texture.h); 0: no textures
+  bp_u32 rb_sun_own_samples; // RB's own samples of each directional light per iteration (--rb-sun own: 1), for the weights
+  bp_u32 pad[3];
 } PathTraceParams;
 
 #define BP_WEIGHTS_NONE 0u

@@ -55,6 +55,30 @@ typedef struct {
   float rb_bundle, rb_light, pt_bsdf, pt_light;
 } LastSegmentWeights;
 
+// A delta light (point, spot, directional: p_L infinite) is reached by the two light samples alone.
+// PT's picks it with probability p_select (N1 per pixel); RB's per-patch sample picks it with the
+// same p_select and, under --rb-sun own, takes rb_own_samples more of it (1 for each directional
+// light) in every iteration, all at the rate rho (rho N2). With c = rho N2 / N1 the balance split is
+//   w_RB,light = prefix_beta c (p_select + own) / (c (p_select + own) + p_select),  w_PT,light = 1 - w_RB,light,
+// and each RB sample of the light counts 1 / (p_select + own) of it (rb_delta_sample_share). Without
+// own samples: c / (c + 1) for any p_select, the split PT and RB always had.
+BP_FN LastSegmentWeights delta_light_weights(float prefix_beta, float ratio_n2_over_n1, float rb_light_rate,
+                                             float p_select, float rb_own_samples) {
+  LastSegmentWeights w;
+  float rb = ratio_n2_over_n1 * rb_light_rate * (p_select + rb_own_samples);
+  w.rb_bundle = 0.0f;
+  w.pt_bsdf = 0.0f;
+  w.rb_light = rb > 0.0f ? prefix_beta * rb / (rb + p_select) : 0.0f;
+  w.pt_light = 1.0f - w.rb_light;
+  return w;
+}
+
+// What one of RB's samples of a delta light counts of its estimate L cos / (rho p_select): p_select
+// of the p_select + own samples a patch takes of it per iteration at the rate (delta_light_weights).
+BP_FN float rb_delta_sample_share(float p_select, float rb_own_samples) {
+  return rb_own_samples > 0.0f ? p_select / (p_select + rb_own_samples) : 1.0f;
+}
+
 // The four-technique split with RB's share R computed from pdf_bsdf_share in the place of PT's BSDF
 // density, and PT's own share 1 - R split between its two techniques by its true density
 // pdf_bsdf_pt (the balance heuristic). The four weights sum to one for any pdf_bsdf_share, so a
@@ -63,15 +87,9 @@ typedef struct {
 BP_FN LastSegmentWeights last_segment_split(float prefix_beta, float ratio_n2_over_n1, float rb_light_rate,
                                             float pdf_bsdf_share, float pdf_bsdf_pt, float pdf_light_uv,
                                             int is_delta) {
+  if (is_delta) return delta_light_weights(prefix_beta, ratio_n2_over_n1, rb_light_rate, 1.0f, 0.0f);
   LastSegmentWeights w;
   w.rb_bundle = 0.0f;
-  if (is_delta) {
-    float c = ratio_n2_over_n1 * rb_light_rate;
-    w.rb_light = prefix_beta * c / (c + 1.0f);
-    w.pt_bsdf = 0.0f;
-    w.pt_light = 1.0f - w.rb_light;
-    return w;
-  }
   // Every term of D divided by m = max(1, s p_b, p_L) and by N1, so nothing overflows for sharp
   // lobes or lights seen at grazing angles.
   float m = fmax(1.0f, fmax(pdf_bsdf_share, pdf_light_uv));

@@ -48,7 +48,9 @@ __kernel void path_weights(__global const Material* materials, __global const fl
 
 // With light sampling (DESIGN.md §3): the four techniques of the last segment. The path's vertices
 // are as above, the last one (k = vertices - 1) connecting to the light; pdf_light[path] is the
-// light-sampling density of that connection (uv), is_delta[path] marks a point or spot light.
+// light-sampling density of that connection (uv), is_delta[path] marks a point or spot light (1) or
+// a sun that RB's patches also sample on their own (2, --rb-sun own: pdf_light is then the sun's
+// selection probability; delta_light_weights at every vertex but the eye's).
 // out[4 * path ..] = w_PT,bsdf, w_PT,light (as pathtrace.cl computes them), w_RB,bundle, w_RB,light
 // (as bundle.cl does: the last vertex's factor in rb_tile_resolve / rb_light_sample, then beta at
 // every reflection towards the eye, none of it at the eye vertex itself). eye_shared: a one-vertex
@@ -77,13 +79,16 @@ __kernel void last_segment_path_weights(__global const Material* materials, __gl
   }
   float prefix = last == 0u ? 0.0f : pdf.beta_product;
   float proxy = eye_direct_proxy_pdf_uv(&bl, dot(nl, wil));
+  const int own_sun = is_delta[path] == 2u && last > 0u;
   LastSegmentWeights pt = last_segment_weights(prefix, ratio, light_rate, pdf_bsdf, pdf_light[path], (int)is_delta[path]);
+  if (own_sun) pt = delta_light_weights(prefix, ratio, light_rate, pdf_light[path], 1.0f);
   if (last == 0u && eye_shared)
     pt = eye_segment_weights(ratio, light_rate, proxy, pdf_bsdf, pdf_light[path], (int)is_delta[path]);
 
   // RB: the last vertex's factor, then beta at each reflection towards the eye (rb_outgoing), and at
   // the eye vertex (rb_eye), which takes no direct light at all.
   LastSegmentWeights rb = last_segment_weights(1.0f, ratio, light_rate, pdf_bsdf, pdf_light[path], (int)is_delta[path]);
+  if (own_sun) rb = delta_light_weights(1.0f, ratio, light_rate, pdf_light[path], 1.0f);
   float rb_bundle = rb.rb_bundle, rb_light = rb.rb_light;
   for (int k = (int)last - 1; k >= 0; --k) {
     Bsdf b = bsdf_from_material(&m[k]);

@@ -112,6 +112,7 @@ CombinedRun render_combined(const Scene& scene, int width, int height, const Com
   pts.rb_light_rate = cs.light_rate;
   pts.light_sampling = cs.light_sampling;
   pts.eye_direct_shared = cs.eye_direct_shared;
+  pts.rb_sun_own = cs.sun_own;
   PathTracerPass pt(device, device_scene, camera, pts, pt_accum);
   RayBundleSettings rbs;
   rbs.seed = cs.seed;
@@ -123,6 +124,7 @@ CombinedRun render_combined(const Scene& scene, int width, int height, const Com
   rbs.light_rate = cs.light_rate;
   rbs.light_sampling = cs.light_sampling;
   rbs.eye_direct_shared = cs.eye_direct_shared;
+  rbs.sun_own = cs.sun_own;
   RayBundlePass rb(device, device_scene, geometry, camera, rbs, rb_accum);
   CombinedPass combined(pt, rb, shape);
   std::atomic<bool> never{false};

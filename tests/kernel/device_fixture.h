@@ -67,6 +67,7 @@ struct CombinedSettings {
   std::uint32_t beta_heuristic = BP_BETA_CLAMPED;
   float light_rate = 1.0f;  // RB's light-sample rate (light sampling)
   bool eye_direct_shared = false;  // light sampling: the eye vertex's direct light split with RB
+  bool sun_own = false;            // light sampling: RB samples each directional light every iteration (--rb-sun own)
   std::uint32_t light_selection = BP_LIGHT_SELECTION_TREE;  // BP_LIGHT_SELECTION_*
 };
 CombinedRun render_combined(const Scene& scene, int width, int height, const CombinedSettings& settings);

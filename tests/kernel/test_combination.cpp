@@ -18,8 +18,9 @@ CombinedRun combined_run(const Scene& scene, std::uint32_t mode, std::uint64_t r
                          bool light_sampling = false, std::uint32_t beta_heuristic = BP_BETA_CLAMPED,
                          float light_rate = 1.0f, std::uint32_t light_selection = BP_LIGHT_SELECTION_TREE,
                          bool eye_direct_shared = false, std::uint32_t pt_samples_per_round = 1,
-                         std::uint32_t rb_iterations_per_round = 4) {
+                         std::uint32_t rb_iterations_per_round = 4, bool sun_own = false) {
   CombinedSettings cs;
+  cs.sun_own = sun_own;
   cs.light_selection = light_selection;
   cs.eye_direct_shared = eye_direct_shared;
   cs.pt_samples_per_round = pt_samples_per_round;
@@ -62,20 +63,21 @@ TEST(Combination, ProductWeightsConvergeToThePathTracedReferenceAndThePlainSumDo
 // Lights chosen by the light tree (the default) or by power; the reference is PT choosing by power.
 // The eye vertex's direct light PT's alone (eye_shared false) or shared with RB (--eye-direct shared).
 void expect_light_sampled_combination_unbiased(const Scene& scene, float light_rate, bool eye_shared,
-                                               std::uint32_t light_selection = BP_LIGHT_SELECTION_TREE) {
+                                               std::uint32_t light_selection = BP_LIGHT_SELECTION_TREE,
+                                               bool sun_own = false) {
   const int runs = 8;
   Sample reference = independent_runs(runs, [&](std::uint32_t seed) {
     return render_pt(scene, kSize, kSize, 256, seed, 65536, true, BP_LIGHT_SELECTION_POWER).image;
   });
   Sample combined = independent_runs(runs, [&](std::uint32_t seed) {
     return combined_run(scene, BP_WEIGHTS_PRODUCT, 64, seed + 1, true, BP_BETA_CLAMPED, light_rate, light_selection,
-                        eye_shared)
+                        eye_shared, 1, 4, sun_own)
         .combined;
   });
   for (const std::string& d : significant_differences(combined, reference, runs))
     ADD_FAILURE() << "RB light rate " << light_rate << ", selection "
                   << (light_selection == BP_LIGHT_SELECTION_TREE ? "tree" : "power")
-                  << (eye_shared ? ", eye direct shared, " : ", ") << d;
+                  << (eye_shared ? ", eye direct shared" : "") << (sun_own ? ", --rb-sun own" : "") << ", " << d;
 }
 
 TEST(Combination, LightSamplingKeepsTheProductWeightsUnbiasedUnderAnAreaLight) {
@@ -119,9 +121,19 @@ TEST(Combination, LightSamplingKeepsTheProductWeightsUnbiasedUnderASunThroughAnO
   scene.lights.push_back(sun);
   expect_light_sampled_combination_unbiased(scene, 0.25f, false);
   expect_light_sampled_combination_unbiased(scene, 1.0f, false, BP_LIGHT_SELECTION_POWER);
+  // --rb-sun own: RB's patches sample the sun every iteration besides the light they choose (a point
+  // light competes with it), and the weights count both
+  Scene with_point = scene;
+  ScenePunctualLight point;
+  point.position = glm::vec3(-0.2f, 0.2f, 0.1f);
+  point.intensity = glm::vec3(0.3f, 0.25f, 0.2f);
+  with_point.lights.push_back(point);
+  expect_light_sampled_combination_unbiased(with_point, 0.25f, false, BP_LIGHT_SELECTION_TREE, true);
   scene.materials[1].kd = glm::vec3(0.6f);  // the floor made Lambert
   scene.materials[1].ks = glm::vec3(0.0f);
   expect_light_sampled_combination_unbiased(scene, 0.25f, true);
+  with_point.materials = scene.materials;
+  expect_light_sampled_combination_unbiased(with_point, 1.0f, true, BP_LIGHT_SELECTION_TREE, true);
 }
 
 // The same scene with the power to see a 2 % bias (issue #12): the image mean and its quadrants of

@@ -123,8 +123,9 @@ LightConnections make_light_connections(std::uint32_t count, std::uint32_t seed)
   LightConnections c;
   for (std::uint32_t i = 0; i < count; ++i) {
     float pick = u(rng);
-    c.is_delta.push_back(pick < 0.2f ? 1u : 0u);
-    c.pdf.push_back(pick < 0.3f ? 0.0f : pick < 0.4f ? 1e30f : std::pow(10.0f, -6.0f + 14.0f * u(rng)));
+    // 2: a sun RB also samples on its own (--rb-sun own), its pdf the selection probability
+    c.is_delta.push_back(pick < 0.1f ? 2u : pick < 0.2f ? 1u : 0u);
+    c.pdf.push_back(pick < 0.1f ? u(rng) : pick < 0.3f ? 0.0f : pick < 0.4f ? 1e30f : std::pow(10.0f, -6.0f + 14.0f * u(rng)));
   }
   return c;
 }
