@@ -93,7 +93,26 @@ BlockStats block_stats(const std::vector<double>& a, const std::vector<double>& 
   return s;
 }
 
-bp::ImageRGB load(const std::string& path) { return bp::read_exr(path); }
+void same_size(const bp::ImageRGB& a, const bp::ImageRGB& b, const std::string& what);
+
+// One EXR, or "A.exr+B.exr+...": the mean of those renders (of independent seeds, a render with
+// their samples together).
+bp::ImageRGB load(const std::string& paths) {
+  bp::ImageRGB sum;
+  int count = 0;
+  for (std::size_t start = 0; start <= paths.size();) {
+    const std::size_t plus = std::min(paths.find('+', start), paths.size());
+    const bp::ImageRGB image = bp::read_exr(paths.substr(start, plus - start));
+    if (count++ == 0) sum = image;
+    else {
+      same_size(sum, image, paths);
+      for (std::size_t i = 0; i < sum.rgb.size(); ++i) sum.rgb[i] += image.rgb[i];
+    }
+    start = plus + 1;
+  }
+  for (float& v : sum.rgb) v /= float(count);
+  return sum;
+}
 
 void same_size(const bp::ImageRGB& a, const bp::ImageRGB& b, const std::string& what) {
   if (a.width != b.width || a.height != b.height)
@@ -129,7 +148,7 @@ std::string pct(double x, int digits = 2) {
 int usage() {
   std::fprintf(stderr,
                "usage: blender_compare [--block B] [--png OUT.png] [--exposure STOPS] [--dump X Y W H] OURS.exr CYCLES.exr "
-               "[OURS_SEED2.exr CYCLES_SEED2.exr]\n");
+               "[OURS_SEED2.exr CYCLES_SEED2.exr]\n(each image may be A.exr+B.exr+...: the mean of those renders)\n");
   return 2;
 }
 
