@@ -298,8 +298,9 @@ float infinite_visibility(const glm::dvec3 c[3], const glm::dvec3& n, const Ligh
   for (const Light& l : lights.lights) {
     if (l.type != BP_LIGHT_DIRECTIONAL && l.type != BP_LIGHT_ENVIRONMENT) continue;
     const glm::dvec3 to_sun = -glm::dvec3(l.axis[0], l.axis[1], l.axis[2]);
+    const bool faces = l.type != BP_LIGHT_DIRECTIONAL || glm::dot(n, to_sun) > 0.0;  // a sun behind it: none
     int escaped = 0;
-    for (int j = 0; j < kVisibilityRays && (l.type != BP_LIGHT_DIRECTIONAL || glm::dot(n, to_sun) > 0.0); ++j) {
+    for (int j = 0; faces && j < kVisibilityRays; ++j) {
       const glm::dvec2 u = visibility_point(j);
       const double root = std::sqrt(u.x);  // uniform on the triangle, and cosine about n (Malley)
       const glm::dvec3 p = c[0] * (1.0 - root) + c[1] * (root * (1.0 - u.y)) + c[2] * (root * u.y) + n * (4.0 * offset);
