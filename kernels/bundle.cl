@@ -76,7 +76,8 @@ static PatchLightSample rb_light_sample(__global const BundleElement* e, float3 
   out.pdf_light = ls.pdf_uv;
   out.is_delta = ls.is_delta;
   out.select_probability = ls.select_probability;
-  out.own_samples = light_set->lights[ls.light].type == BP_LIGHT_DIRECTIONAL ? (float)it->sun_own_samples : 0.0f;
+  out.own_samples =
+      it->sun_own_samples > 0u && light_set->lights[ls.light].type == BP_LIGHT_DIRECTIONAL ? (float)it->sun_own_samples : 0.0f;
   float cos_x = dot(n, ls.wi);
   if (!(cos_x > 0.0f) || ls.radiance_over_pdf.x + ls.radiance_over_pdf.y + ls.radiance_over_pdf.z <= 0.0f) return out;
   float t_max = ls.is_delta ? ls.distance : ls.distance - 4.0f * ray_epsilon;
