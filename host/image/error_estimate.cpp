@@ -148,7 +148,7 @@ BatchMeansErrorEstimate BatchMeansErrorEstimate::from_state(State state, int wid
 ImageErrorEstimate::ImageErrorEstimate(int width, int height, std::vector<Layer> layers, int levels,
                                        std::uint64_t first_round,
                                        const std::vector<BatchMeansErrorEstimate::State>* resumed)
-    : width_(width), height_(height), layers_(std::move(layers)), factors_(layers_.size(), {1.0, 1.0, 1.0}) {
+    : width_(width), height_(height), layers_(std::move(layers)), factors_(layers_.size()) {
   if (resumed && resumed->size() != layers_.size())
     throw std::runtime_error("the error estimate's batch statistics hold " + std::to_string(resumed->size()) +
                              " layer(s), this render has " + std::to_string(layers_.size()));
@@ -162,15 +162,14 @@ void ImageErrorEstimate::add(std::uint64_t rounds) {
   for (std::size_t l = 0; l < layers_.size(); ++l) estimates_[l].add(rounds, layers_[l].sums);
 }
 
-void ImageErrorEstimate::set_channel_factors(const std::string& layer, const std::array<double, 3>& factors) {
+void ImageErrorEstimate::set_factors(const std::string& layer, std::vector<double> factors) {
   for (std::size_t l = 0; l < layers_.size(); ++l)
-    if (layer == layers_[l].name) factors_[l] = factors;
+    if (layer == layers_[l].name) factors_[l] = std::move(factors);
 }
 
 std::vector<double> ImageErrorEstimate::layer_variance(std::size_t layer, int level) const {
   std::vector<double> var = estimates_[layer].variance_of_mean(level);
-  const std::array<double, 3>& f = factors_[layer];
-  for (std::size_t i = 0; i < var.size(); ++i) var[i] *= f[i % 3] * f[i % 3];  // Var(f·X) = f² Var(X)
+  for (std::size_t i = 0; i < var.size(); ++i) var[i] *= factor(layer, i) * factor(layer, i);  // Var(f·X) = f² Var(X)
   return var;
 }
 
@@ -192,7 +191,7 @@ double ImageErrorEstimate::rel_mse_of(const std::vector<double>& variance) const
   const LevelVarianceOf var{variance};
   return bp::rel_mse_of(var, width_, height_, [&](std::size_t i) {
     double image = 0.0;  // I = Σ layers' sums · factors / rounds
-    for (std::size_t l = 0; l < layers_.size(); ++l) image += layers_[l].sums.at(i) * factors_[l][i % 3];
+    for (std::size_t l = 0; l < layers_.size(); ++l) image += layers_[l].sums.at(i) * factor(l, i);
     return image * inv_rounds;
   });
 }

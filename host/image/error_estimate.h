@@ -88,9 +88,10 @@ class BatchMeansErrorEstimate {
 // own length -- PT's of one round (its rounds are independent), RB's of kErrorBatchRbIterations (a
 // chain). So PT's share has its degrees of freedom after a few rounds while RB's batches are long,
 // and --target-error waits for the degrees of freedom of the sum (Welch–Satterthwaite), not for
-// eight of RB's long batches. --rb-level corrected scales RB's layer in the image by a factor per
+// eight of RB's long batches. --rb-level scales RB's layer in the image by a factor per pixel and
 // channel (image/rb_level.h): its variance counts scaled by the factor's square, the factor taken as
-// exact (its noise, and the correlation it brings between the layers, are of second order).
+// exact (its noise, and the correlation it brings between the layers, are of second order per pixel;
+// over a region they are not, and image/regional_error.h counts them).
 class ImageErrorEstimate {
  public:
   struct Layer {
@@ -106,8 +107,9 @@ class ImageErrorEstimate {
 
   // After a batch of the render loop: the layers' sums hold rounds [0, rounds).
   void add(std::uint64_t rounds);
-  // The factor per channel with which the layer named so counts in the image (1 unless set).
-  void set_channel_factors(const std::string& layer, const std::array<double, 3>& factors);
+  // The factor per pixel and channel (interleaved RGB) with which the layer named so counts in the
+  // image (1 unless set; --rb-level's field, image/rb_level.h).
+  void set_factors(const std::string& layer, std::vector<double> factors);
 
   // The image's relMSE (BatchMeansErrorEstimate's formula) with the layers' variances summed, from
   // each layer's batches of level j; NaN until every layer has two batches.
@@ -132,7 +134,8 @@ class ImageErrorEstimate {
   double rel_mse_of(const std::vector<double>& variance) const;
   int width_, height_;
   std::vector<Layer> layers_;
-  std::vector<std::array<double, 3>> factors_;
+  std::vector<std::vector<double>> factors_;  // per layer, per value; empty: 1
+  double factor(std::size_t layer, std::size_t i) const { return factors_[layer].empty() ? 1.0 : factors_[layer][i]; }
   std::vector<BatchMeansErrorEstimate> estimates_;
 };
 

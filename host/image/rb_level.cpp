@@ -1,5 +1,6 @@
 #include "image/rb_level.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace bp {
@@ -17,33 +18,35 @@ double rb_level_factor(double rb_level, double rb_variance, double pt_level, dou
   return mean / rb_level;  // s = M / M_RB
 }
 
-RbLevel::RbLevel(std::uint64_t first_round, const Accumulator& pt, std::uint32_t pt_samples, const Accumulator& rb,
-                 std::uint32_t rb_iterations, const std::optional<State>& resumed)
-    : pt_accum_(pt),
+RbLevel::RbLevel(RegionGrid grid, std::uint64_t first_round, const Accumulator& pt, std::uint32_t pt_samples,
+                 const Accumulator& rb, std::uint32_t rb_iterations, const std::optional<State>& resumed)
+    : grid_(grid),
+      pt_accum_(pt),
       rb_accum_(rb),
-      pt_scale_(1.0 / (double(pt_samples) * double(pt.width) * double(pt.height))),
-      rb_scale_(1.0 / (double(rb_iterations) * double(rb.width) * double(rb.height))),
-      pt_sums_(3, 0.0),
-      rb_sums_(3, 0.0),
+      pt_scale_(1.0 / double(pt_samples)),
+      rb_scale_(1.0 / double(rb_iterations)),
+      pt_sums_(grid.count() * 3, 0.0),
+      rb_sums_(grid.count() * 3, 0.0),
       pt_round_sums_{&pt_sums_, 1.0},
       rb_round_sums_{&rb_sums_, 1.0} {
+  for (std::size_t n : grid_.pixel_counts()) region_scales_.push_back(1.0 / double(n));
   update_sums();
   if (resumed) {
-    pt_.emplace(BatchMeansErrorEstimate::from_state(resumed->pt, 1, 1));
-    rb_.emplace(BatchMeansErrorEstimate::from_state(resumed->rb, 1, 1));
+    pt_.emplace(BatchMeansErrorEstimate::from_state(resumed->pt, grid_.columns, grid_.rows));
+    rb_.emplace(BatchMeansErrorEstimate::from_state(resumed->rb, grid_.columns, grid_.rows));
   } else {  // batches of one round or more: the render loop's batches
-    pt_.emplace(1, 1, 1, 1, first_round, first_round ? &pt_round_sums_ : nullptr);
-    rb_.emplace(1, 1, 1, 1, first_round, first_round ? &rb_round_sums_ : nullptr);
+    pt_.emplace(grid_.columns, grid_.rows, 1, 1, first_round, first_round ? &pt_round_sums_ : nullptr);
+    rb_.emplace(grid_.columns, grid_.rows, 1, 1, first_round, first_round ? &rb_round_sums_ : nullptr);
   }
 }
 
 void RbLevel::update_sums() {
-  std::array<double, 3> pt{}, rb{};
-  for (std::size_t i = 0; i < rb_accum_.sum.size(); ++i) rb[i % 3] += rb_accum_.sum[i];
-  for (std::size_t i = 0; i < pt_accum_.raw_sum.size(); ++i) pt[i % 3] += pt_accum_.raw_sum[i] - pt_accum_.sum[i];
-  for (int c = 0; c < 3; ++c) {
-    pt_sums_[std::size_t(c)] = pt[std::size_t(c)] * pt_scale_;
-    rb_sums_[std::size_t(c)] = rb[std::size_t(c)] * rb_scale_;
+  std::vector<double> pt_share(pt_accum_.raw_sum.size());
+  for (std::size_t i = 0; i < pt_share.size(); ++i) pt_share[i] = pt_accum_.raw_sum[i] - pt_accum_.sum[i];
+  const std::vector<double> pt = grid_.sums(pt_share), rb = grid_.sums(rb_accum_.sum);
+  for (std::size_t i = 0; i < pt_sums_.size(); ++i) {
+    pt_sums_[i] = pt[i] * pt_scale_ * region_scales_[i / 3];
+    rb_sums_[i] = rb[i] * rb_scale_ * region_scales_[i / 3];
   }
 }
 
@@ -53,25 +56,27 @@ void RbLevel::add(std::uint64_t rounds) {
   rb_->add(rounds, rb_round_sums_);
 }
 
-std::array<double, 3> RbLevel::levels(const std::vector<double>& sums, const BatchMeansErrorEstimate& e) {
-  std::array<double, 3> out{};
-  for (int c = 0; c < 3; ++c)
-    out[std::size_t(c)] = e.rounds() ? sums[std::size_t(c)] / double(e.rounds()) : std::nan("");
+std::vector<std::array<double, 3>> RbLevel::levels(const std::vector<double>& sums, const BatchMeansErrorEstimate& e) {
+  std::vector<std::array<double, 3>> out(sums.size() / 3);
+  for (std::size_t i = 0; i < sums.size(); ++i)
+    out[i / 3][i % 3] = e.rounds() ? sums[i] / double(e.rounds()) : std::nan("");
   return out;
 }
 
-std::array<double, 3> RbLevel::standard_errors(const BatchMeansErrorEstimate& e) {
+std::vector<std::array<double, 3>> RbLevel::standard_errors(const BatchMeansErrorEstimate& e) {
   const std::vector<double> var = e.variance_of_mean();
-  std::array<double, 3> out{};
-  for (int c = 0; c < 3; ++c) out[std::size_t(c)] = var.empty() ? std::nan("") : std::sqrt(var[std::size_t(c)]);
+  std::vector<std::array<double, 3>> out(std::size_t(e.state().width) * std::size_t(e.state().height));
+  for (std::size_t i = 0; i < out.size() * 3; ++i) out[i / 3][i % 3] = var.empty() ? std::nan("") : std::sqrt(var[i]);
   return out;
 }
 
-std::array<double, 3> RbLevel::factors() const {
-  const std::array<double, 3> rb = rb_levels(), pt = pt_levels();
-  const std::array<double, 3> rb_se = rb_standard_errors(), pt_se = pt_standard_errors();
-  std::array<double, 3> out{};
-  for (std::size_t c = 0; c < 3; ++c) out[c] = rb_level_factor(rb[c], rb_se[c] * rb_se[c], pt[c], pt_se[c] * pt_se[c]);
+std::vector<std::array<double, 3>> RbLevel::factors() const {
+  const auto rb = rb_levels(), pt = pt_levels(), rb_se = rb_standard_errors(), pt_se = pt_standard_errors();
+  std::vector<std::array<double, 3>> out(rb.size());
+  for (std::size_t r = 0; r < out.size(); ++r)
+    for (std::size_t c = 0; c < 3; ++c)
+      out[r][c] = std::clamp(rb_level_factor(rb[r][c], rb_se[r][c] * rb_se[r][c], pt[r][c], pt_se[r][c] * pt_se[r][c]),
+                             1.0 / kRbLevelFactorLimit, kRbLevelFactorLimit);
   return out;
 }
 

@@ -14,9 +14,17 @@
 // ratio estimator: consistent, biased only to second order in the levels' relative noise (4e-4 at
 // 2 % noise), and it takes RB's level discretisation with it. Measured: README, "The RB level from
 // both estimators".
+//
+// --rb-level regional (DESIGN.md §9, "Regional error") does the same per region of a grid
+// (image/regions.h): RB's chain moves the light of whole rooms together, so its error is regional
+// as well as global, and PT's estimate of RB's share in a region of thousands of pixels is still
+// good to a percent or so. Each region gets its own factor s_r; the image's RB layer is scaled by
+// the factors interpolated bilinearly between the regions' centres (a smooth field: RB's regional
+// error is smooth, and a step at a block edge would show). --rb-level corrected is the 1x1 grid.
 #pragma once
 #include "image/accumulator.h"
 #include "image/error_estimate.h"
+#include "image/regions.h"
 
 #include <array>
 #include <cstdint>
@@ -30,39 +38,52 @@ namespace bp {
 // (NaN: fewer than two batches) or RB's level or the mean is not positive and finite.
 double rb_level_factor(double rb_level, double rb_variance, double pt_level, double pt_variance);
 
+// The factors RbLevel applies stay within [1 / limit, limit]: in a region where RB's share is nearly
+// nothing (a dark corner, RB's layer a few noisy pixels) the ratio M / M_RB could be large and
+// would multiply RB's per-pixel noise with it; there PT's level is off by more than RB's anyway.
+constexpr double kRbLevelFactorLimit = 4.0;
+
 class RbLevel {
  public:
   // Tracks the levels from round `first_round`; pt and rb are the render's accumulators (pt with its
   // unweighted sums), each round adding pt_samples PT samples per pixel and rb_iterations RB
   // iterations. A resumed render passes its checkpoint's state.
   struct State {
-    BatchMeansErrorEstimate::State pt, rb;  // 1x1 "images" of the per-round levels
+    BatchMeansErrorEstimate::State pt, rb;  // columns x rows "images" of the regions' per-round levels
   };
-  RbLevel(std::uint64_t first_round, const Accumulator& pt, std::uint32_t pt_samples, const Accumulator& rb,
-          std::uint32_t rb_iterations, const std::optional<State>& resumed);
+  // `grid`: the regions (1x1: --rb-level corrected); a resumed state must have its size.
+  RbLevel(RegionGrid grid, std::uint64_t first_round, const Accumulator& pt, std::uint32_t pt_samples,
+          const Accumulator& rb, std::uint32_t rb_iterations, const std::optional<State>& resumed);
 
   // After a batch of the render loop (the accumulators hold rounds [0, rounds)).
   void add(std::uint64_t rounds);
 
-  // Per channel: the factor s on RB's weighted layer, the levels and the standard errors of their means.
-  std::array<double, 3> factors() const;
-  std::array<double, 3> rb_levels() const { return levels(rb_sums_, *rb_); }
-  std::array<double, 3> pt_levels() const { return levels(pt_sums_, *pt_); }
-  std::array<double, 3> rb_standard_errors() const { return standard_errors(*rb_); }
-  std::array<double, 3> pt_standard_errors() const { return standard_errors(*pt_); }
+  const RegionGrid& grid() const { return grid_; }
+  // Per region and channel: the factor s on RB's weighted layer, the levels (the region's mean) and
+  // the standard errors of their means.
+  std::vector<std::array<double, 3>> factors() const;
+  std::vector<std::array<double, 3>> rb_levels() const { return levels(rb_sums_, *rb_); }
+  std::vector<std::array<double, 3>> pt_levels() const { return levels(pt_sums_, *pt_); }
+  std::vector<std::array<double, 3>> rb_standard_errors() const { return standard_errors(*rb_); }
+  std::vector<std::array<double, 3>> pt_standard_errors() const { return standard_errors(*pt_); }
+  // Per pixel and channel, the factor on RB's layer: the regions' factors, bilinear between their
+  // centres (one factor per channel on a 1x1 grid).
+  std::vector<double> pixel_factors() const { return grid_.bilinear(factors()); }
   std::uint64_t batches() const { return pt_->batches(); }
   State state() const { return State{pt_->state(), rb_->state()}; }
 
  private:
-  // The sums over rounds of each channel's level: RB's weighted layer, and PT's unweighted less its
-  // weighted layer, per round (so that sums / rounds is the level of the image).
+  // The sums over rounds of each region's and channel's level: RB's weighted layer, and PT's
+  // unweighted less its weighted layer, per round (so that sums / rounds is the region's mean).
   void update_sums();
-  static std::array<double, 3> levels(const std::vector<double>& sums, const BatchMeansErrorEstimate& e);
-  static std::array<double, 3> standard_errors(const BatchMeansErrorEstimate& e);
+  static std::vector<std::array<double, 3>> levels(const std::vector<double>& sums, const BatchMeansErrorEstimate& e);
+  static std::vector<std::array<double, 3>> standard_errors(const BatchMeansErrorEstimate& e);
 
+  RegionGrid grid_;
   const Accumulator& pt_accum_;
   const Accumulator& rb_accum_;
-  double pt_scale_, rb_scale_;  // 1 / (samples per round · pixels)
+  double pt_scale_, rb_scale_;  // 1 / samples per round
+  std::vector<double> region_scales_;  // 1 / the region's pixels
   std::vector<double> pt_sums_, rb_sums_;
   RoundSums pt_round_sums_, rb_round_sums_;
   std::optional<BatchMeansErrorEstimate> pt_, rb_;

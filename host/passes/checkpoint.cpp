@@ -9,13 +9,14 @@
 namespace bp {
 namespace {
 
-constexpr char kMagic[8] = {'B', 'P', 'C', 'K', 'P', 'T', '0', '4'};
-// Versions 01 (before issue #16: it ends before the error estimate's statistics), 02 (before
-// --rb-level: it ends before the RB level's) and 03 (one error estimate of the layers' sum, not one
-// per layer) are read too.
+constexpr char kMagic[8] = {'B', 'P', 'C', 'K', 'P', 'T', '0', '5'};
+// Versions 01 (it ends before the error estimate's statistics), 02 (before --rb-level: it ends
+// before the RB level's), 03 (one error estimate of the layers' sum, not one per layer) and 04 (no
+// regional error) are read too.
 constexpr char kMagicV1[8] = {'B', 'P', 'C', 'K', 'P', 'T', '0', '1'};
 constexpr char kMagicV2[8] = {'B', 'P', 'C', 'K', 'P', 'T', '0', '2'};
 constexpr char kMagicV3[8] = {'B', 'P', 'C', 'K', 'P', 'T', '0', '3'};
+constexpr char kMagicV4[8] = {'B', 'P', 'C', 'K', 'P', 'T', '0', '4'};
 // A walkthrough's further views follow the first's RB level, after this tag (a plain render's
 // checkpoint ends before it).
 constexpr char kViewsTag[8] = {'V', 'I', 'E', 'W', 'S', '0', '0', '1'};
@@ -156,6 +157,23 @@ std::optional<RbLevel::State> read_rb_level(Reader& r) {
   return RbLevel::State{std::move(*pt), std::move(*rb)};
 }
 
+void write_regional_error(Writer& w, const std::optional<RegionalError::State>& regional) {
+  write_error_estimate(w, regional ? regional->layers : std::vector<BatchMeansErrorEstimate::State>{});
+}
+
+std::optional<RegionalError::State> read_regional_error(Reader& r) {
+  const std::uint8_t count = r.value<std::uint8_t>();
+  if (count == 0) return std::nullopt;
+  if (count > 4) throw std::runtime_error(r.path + ": the checkpoint's regional error is inconsistent");
+  RegionalError::State s;
+  for (std::uint8_t l = 0; l < count; ++l) {
+    std::optional<BatchMeansErrorEstimate::State> e = read_batch_means(r);
+    if (!e) throw std::runtime_error(r.path + ": the checkpoint's regional error is inconsistent");
+    s.layers.push_back(std::move(*e));
+  }
+  return s;
+}
+
 }  // namespace
 
 void write_checkpoint(const std::string& path, const Checkpoint& c) {
@@ -174,6 +192,7 @@ void write_checkpoint(const std::string& path, const Checkpoint& c) {
   }
   write_error_estimate(w, c.error_estimate);
   write_rb_level(w, c.rb_level);
+  write_regional_error(w, c.regional_error);
   if (!c.further_views.empty()) {
     w.bytes.append(kViewsTag, sizeof kViewsTag);
     w.value(std::uint64_t(c.further_views.size()));
@@ -182,6 +201,7 @@ void write_checkpoint(const std::string& path, const Checkpoint& c) {
       write_accumulator(w, view.rb);
       write_error_estimate(w, view.error_estimate);
       write_rb_level(w, view.rb_level);
+      write_regional_error(w, view.regional_error);
     }
   }
   write_file_atomically(path, "checkpoint", [&](const std::string& tmp) {
@@ -198,8 +218,9 @@ Checkpoint read_checkpoint(const std::string& path) {
   const auto starts_with = [&](const char (&magic)[8]) {
     return bytes.size() >= sizeof magic && std::memcmp(bytes.data(), magic, sizeof magic) == 0;
   };
-  const bool v1 = starts_with(kMagicV1), v2 = starts_with(kMagicV2), v3 = starts_with(kMagicV3);
-  if (!v1 && !v2 && !v3 && !starts_with(kMagic))
+  const bool v1 = starts_with(kMagicV1), v2 = starts_with(kMagicV2), v3 = starts_with(kMagicV3),
+             v4 = starts_with(kMagicV4);
+  if (!v1 && !v2 && !v3 && !v4 && !starts_with(kMagic))
     throw std::runtime_error(path + ": not a bundlepath checkpoint");
   Reader r{bytes, path, sizeof kMagic};
   Checkpoint c;
@@ -217,6 +238,7 @@ Checkpoint read_checkpoint(const std::string& path) {
   }
   if (!v1) c.error_estimate = read_error_estimate(r, v2 || v3);
   if (!v1 && !v2) c.rb_level = read_rb_level(r);
+  if (!v1 && !v2 && !v3 && !v4) c.regional_error = read_regional_error(r);
   if (!v1 && !v2 && bytes.size() - r.at >= sizeof kViewsTag &&
       std::memcmp(bytes.data() + r.at, kViewsTag, sizeof kViewsTag) == 0) {
     r.at += sizeof kViewsTag;
@@ -227,6 +249,7 @@ Checkpoint read_checkpoint(const std::string& path) {
       view.rb = read_accumulator(r);
       view.error_estimate = read_error_estimate(r, v3);
       view.rb_level = read_rb_level(r);
+      if (!v3 && !v4) view.regional_error = read_regional_error(r);
       c.further_views.push_back(std::move(view));
     }
   }

@@ -5,6 +5,7 @@
 #include "image/accumulator.h"
 #include "image/error_estimate.h"
 #include "image/rb_level.h"
+#include "image/regional_error.h"
 #include "passes/ray_bundles.h"
 #include <cstdint>
 #include <optional>
@@ -25,12 +26,15 @@ struct Checkpoint {
   std::vector<BatchMeansErrorEstimate::State> error_estimate;
   // The RB level's batch statistics (--rb-level corrected, image/rb_level.h); absent before format 03.
   std::optional<RbLevel::State> rb_level;
+  // The regional error's batch statistics (image/regional_error.h); absent before format 05.
+  std::optional<RegionalError::State> regional_error;
   // A walkthrough's views after the first (DESIGN.md §8; the first is pt, rb, error_estimate above):
   // each one's accumulators and error estimate. The ray-bundle state is the views' one chain.
   struct View {
     std::optional<Accumulator> pt, rb;
     std::vector<BatchMeansErrorEstimate::State> error_estimate;
     std::optional<RbLevel::State> rb_level;
+    std::optional<RegionalError::State> regional_error;
   };
   std::vector<View> further_views;
 };

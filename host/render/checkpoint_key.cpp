@@ -27,7 +27,8 @@ std::string options_key(const RenderSpec& o, int width, int height, float patch_
   if (shape)
     key += ";weights=" + o.weights + ";beta=" + o.beta + ";light_rate=" + std::to_string(o.light_rate) +
            (o.rb_sun_own ? ";rb_sun=own" : "") +
-           ";eye_direct=" + eye_direct + (rb_level_corrected(o) ? ";rb_level=corrected" : "") +
+           ";eye_direct=" + eye_direct + (rb_level_corrected(o) ? ";rb_level=" + o.rb_level : "") +
+           ";regions=" + std::to_string(o.regions) +
            ";round=" + std::to_string(shape->pt_samples) + "spp+" + std::to_string(shape->rb_iterations) + "it";
   return key;
 }

@@ -18,12 +18,23 @@ namespace {
 // written (RB's layer with --rb-level's factors), and the worst.
 void update_error_estimates(RenderState& s, std::optional<std::uint64_t> rounds_done) {
   s.estimated_rel_mse = NAN;
+  s.expected_worst_region_error = NAN;
   for (RenderView& view : s.views) {
     if (rounds_done) view.error_estimate->add(*rounds_done);
-    if (view.rb_level) view.error_estimate->set_channel_factors("rb", view.rb_level->factors());
+    if (rounds_done && view.regional_error) view.regional_error->add(*rounds_done);
+    if (view.rb_level) {
+      std::vector<double> factors = view.rb_level->pixel_factors();
+      if (view.regional_error) view.regional_error->set_rb_factors(factors, view.rb_level->grid().count() > 1);
+      view.error_estimate->set_factors("rb", std::move(factors));
+    }
     view.estimated_rel_mse = view.error_estimate->estimated_rel_mse();
     if (std::isnan(s.estimated_rel_mse) || view.estimated_rel_mse > s.estimated_rel_mse)
       s.estimated_rel_mse = view.estimated_rel_mse;
+    if (view.regional_error) {
+      view.expected_worst_region_error = expected_largest_error(view.regional_error->relative_standard_errors());
+      if (std::isnan(s.expected_worst_region_error) || view.expected_worst_region_error > s.expected_worst_region_error)
+        s.expected_worst_region_error = view.expected_worst_region_error;
+    }
   }
 }
 
@@ -75,6 +86,27 @@ void start_error_estimate(RenderState& s) {
     if (saved && saved->size() != layers.size()) saved = nullptr;  // also a checkpoint of before #16: none
     view.error_estimate.emplace(s.scene.width, s.scene.height, std::move(layers), o.error_levels, s.first_round,
                                 saved);
+    // The regional error (image/regional_error.h), on the --regions grid: RB's batches of
+    // kRegionalBatchRbIterations, in rounds.
+    RegionalError::Inputs in;
+    if (!s.pt.empty() && (!s.shape || s.shape->pt_samples > 0)) {
+      in.pt = &view.pt_accum;
+      in.pt_samples = s.shape ? s.shape->pt_samples : 1;
+    }
+    if (s.rb_renders()) {
+      in.rb = &view.rb_accum;
+      in.rb_iterations = s.shape ? s.shape->rb_iterations : 1;
+      in.rb_batch_rounds = (kRegionalBatchRbIterations + in.rb_iterations - 1) / in.rb_iterations;
+    }
+    const std::optional<RegionalError::State> none;
+    const std::optional<RegionalError::State>& saved_regional =
+        !s.resumed ? none : k ? s.resumed->further_views[k - 1].regional_error : s.resumed->regional_error;
+    const RegionGrid grid = RegionGrid::over(s.scene.width, s.scene.height, o.regions, o.regions);
+    try {
+      view.regional_error.emplace(grid, in, s.first_round, saved_regional);
+    } catch (const std::runtime_error&) {  // a checkpoint of another grid, or of before format 05: afresh
+      view.regional_error.emplace(grid, in, s.first_round, std::nullopt);
+    }
   }
   update_error_estimates(s, std::nullopt);
 }
@@ -88,8 +120,9 @@ void start_rb_levels(RenderState& s) {
     const std::optional<RbLevel::State> none;
     const std::optional<RbLevel::State>& saved =
         !s.resumed ? none : k ? s.resumed->further_views[k - 1].rb_level : s.resumed->rb_level;
-    view.rb_level.emplace(s.first_round, view.pt_accum, s.shape->pt_samples, view.rb_accum, s.shape->rb_iterations,
-                          saved);
+    const int regions = rb_level_regions(s.spec);
+    view.rb_level.emplace(RegionGrid::over(s.scene.width, s.scene.height, regions, regions), s.first_round,
+                          view.pt_accum, s.shape->pt_samples, view.rb_accum, s.shape->rb_iterations, saved);
   }
 }
 
@@ -105,6 +138,7 @@ void save_checkpoint(RenderState& s, std::uint64_t rounds, double seconds) {
     if (s.rb) saved.rb = view.rb_accum;
     saved.error_estimate = view.error_estimate->state();
     if (view.rb_level) saved.rb_level = view.rb_level->state();
+    saved.regional_error = view.regional_error->state();
     if (k) {
       c.further_views.push_back(std::move(saved));
     } else {
@@ -112,6 +146,7 @@ void save_checkpoint(RenderState& s, std::uint64_t rounds, double seconds) {
       c.rb = std::move(saved.rb);
       c.error_estimate = std::move(saved.error_estimate);
       c.rb_level = std::move(saved.rb_level);
+      c.regional_error = std::move(saved.regional_error);
     }
   }
   if (s.rb) c.rb_state = s.rb->save_state();
@@ -207,11 +242,17 @@ void render_rounds(RenderState& s, RenderObserver& observer) {
     budget.agree_stop = [&](LoopStop stop) { return LoopStop(s.ranks.max_over_ranks(int(stop))); };
   // --target-error: done once every view's estimate has the degrees of freedom to say that the
   // relMSE is at most X (checked after each batch).
-  if (o.target_error > 0.0 && s.ranks.root())
+  // --target-block-error likewise, on the expected worst region's relative error.
+  if ((o.target_error > 0.0 || o.target_block_error > 0.0) && s.ranks.root())
     budget.target_reached = [&] {
-      for (const RenderView& view : s.views)
-        if (view.error_estimate->degrees_of_freedom() < kMinDegreesOfFreedomForTarget) return false;
-      return s.estimated_rel_mse <= o.target_error;
+      for (const RenderView& view : s.views) {
+        if (o.target_error > 0.0 && view.error_estimate->degrees_of_freedom() < kMinDegreesOfFreedomForTarget)
+          return false;
+        if (o.target_block_error > 0.0 && view.regional_error->degrees_of_freedom() < kMinDegreesOfFreedomForTarget)
+          return false;
+      }
+      return (o.target_error <= 0.0 || s.estimated_rel_mse <= o.target_error) &&
+             (o.target_block_error <= 0.0 || s.expected_worst_region_error <= o.target_block_error);
     };
   s.outcome = run_progressive(
       *s.pass, budget, observer.stop_requested(),
@@ -224,14 +265,30 @@ void render_rounds(RenderState& s, RenderObserver& observer) {
         RenderProgressReport report;
         report.frames = s.views.size();
         report.fraction = p.fraction;
-        if (o.target_error > 0.0 && std::isfinite(s.estimated_rel_mse) && p.rounds_done > s.first_round) {
-          // relMSE ∝ 1/N: X is reached after N·relMSE/X rounds, at this run's seconds per round.
-          const double rounds_needed = double(p.rounds_done) * s.estimated_rel_mse / o.target_error;
-          const double seconds_per_round = p.elapsed_seconds / double(p.rounds_done - s.first_round);
-          double eta = std::max(0.0, rounds_needed - double(p.rounds_done)) * seconds_per_round;
-          if (o.seconds > 0.0) eta = std::min(eta, std::max(0.0, o.seconds - p.elapsed_seconds));
-          report.eta_seconds = eta;
-          report.fraction = std::max(report.fraction, std::min(1.0, o.target_error / s.estimated_rel_mse));
+        if (p.rounds_done > s.first_round) {
+          // relMSE ∝ 1/N and a region's relative error ∝ 1/√N: a target X is reached after
+          // N·relMSE/X or N·(E/X)² rounds, at this run's seconds per round; the later of the two.
+          double rounds_needed = 0.0, fraction = 0.0;
+          bool known = true;
+          if (o.target_error > 0.0) {
+            known = known && std::isfinite(s.estimated_rel_mse);
+            rounds_needed = std::max(rounds_needed, double(p.rounds_done) * s.estimated_rel_mse / o.target_error);
+            fraction = std::min(1.0, o.target_error / s.estimated_rel_mse);
+          }
+          if (o.target_block_error > 0.0) {
+            const double ratio = s.expected_worst_region_error / o.target_block_error;
+            known = known && std::isfinite(ratio);
+            rounds_needed = std::max(rounds_needed, double(p.rounds_done) * ratio * ratio);
+            fraction = o.target_error > 0.0 ? std::min(fraction, std::min(1.0, 1.0 / (ratio * ratio)))
+                                            : std::min(1.0, 1.0 / (ratio * ratio));
+          }
+          if (known && (o.target_error > 0.0 || o.target_block_error > 0.0)) {
+            const double seconds_per_round = p.elapsed_seconds / double(p.rounds_done - s.first_round);
+            double eta = std::max(0.0, rounds_needed - double(p.rounds_done)) * seconds_per_round;
+            if (o.seconds > 0.0) eta = std::min(eta, std::max(0.0, o.seconds - p.elapsed_seconds));
+            report.eta_seconds = eta;
+            report.fraction = std::max(report.fraction, fraction);
+          }
         }
         report.rate = double(p.rounds_done - s.first_round) * samples_per_round / secs;
         report.mrays_per_second = double(p.rays) / secs * 1e-6;

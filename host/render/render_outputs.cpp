@@ -9,10 +9,23 @@
 
 namespace bp {
 namespace {
-// a + b, each channel of b times its factor.
-ImageRGB sum_images(const ImageRGB& a, const ImageRGB& b, const std::array<double, 3>& b_factors) {
+// a + b, each value of b times its factor (none: 1).
+ImageRGB sum_images(const ImageRGB& a, const ImageRGB& b, const std::vector<double>& b_factors) {
   ImageRGB out = a;
-  for (std::size_t i = 0; i < out.rgb.size(); ++i) out.rgb[i] += float(double(b.rgb[i]) * b_factors[i % 3]);
+  for (std::size_t i = 0; i < out.rgb.size(); ++i)
+    out.rgb[i] += float(double(b.rgb[i]) * (b_factors.empty() ? 1.0 : b_factors[i]));
+  return out;
+}
+
+// Each pixel's region's relative standard error (image/regional_error.h), in every channel.
+ImageRGB region_error_image(const RegionalError& e) {
+  const RegionGrid& g = e.grid();
+  const std::vector<double> relative = e.relative_standard_errors();
+  ImageRGB out(g.width, g.height);
+  for (int y = 0; y < g.height; ++y)
+    for (int x = 0; x < g.width; ++x)
+      for (std::size_t c = 0; c < 3; ++c)
+        out.rgb[(std::size_t(y) * std::size_t(g.width) + std::size_t(x)) * 3 + c] = float(relative[g.region_of(x, y)]);
   return out;
 }
 }  // namespace
@@ -29,10 +42,9 @@ RenderLayers make_layers(const RenderState& s, const RenderView& view) {
   RenderLayers layers;
   ImageRGB pt_image = pt ? view.pt_accum.mean() : ImageRGB(width, height);
   ImageRGB rb_image = s.rb ? view.rb_accum.mean() : ImageRGB(width, height);
-  // The combined image, pt + s·rb with --rb-level corrected's s (image/rb_level.h); the rb layer
-  // stays RB's own weighted estimate.
-  const std::array<double, 3> rb_factors =
-      view.rb_level ? view.rb_level->factors() : std::array<double, 3>{1.0, 1.0, 1.0};
+  // The combined image, pt + s·rb with --rb-level's field s (image/rb_level.h); the rb layer stays
+  // RB's own weighted estimate.
+  const std::vector<double> rb_factors = view.rb_level ? view.rb_level->pixel_factors() : std::vector<double>{};
   layers.images.emplace_back("", sum_images(pt_image, rb_image, rb_factors));
   // No rb layers where --ratio auto chose the path tracer alone: RB rendered nothing.
   if (s.shape) {
@@ -58,6 +70,9 @@ RenderFrame write_images(const RenderState& s, const RenderView& view, const Ren
   // Each pixel's standard error of the combined image (DESIGN.md §9), beside the layers.
   const ImageRGB standard_error = view.error_estimate->standard_error();
   exr_layers.push_back({"stderr", &standard_error});
+  // Each region's relative standard error of its mean luminance (DESIGN.md §9, "Regional error").
+  const ImageRGB region_error = region_error_image(*view.regional_error);
+  exr_layers.push_back({"region_error", &region_error});
   write_exr(result.exr_path, exr_layers);
   write_png(result.png_path, layers.images.front().second, o.exposure);
   if (!o.contact_sheet_path.empty()) {

@@ -47,7 +47,9 @@ struct RenderSpec {
   std::string eye_direct = "auto";  // combined + light sampling: the eye vertex's direct light, shared, pt or auto
   bool rb_sun_own = false;          // combined + light sampling: --rb-sun own (RB samples each sun every iteration)
   double ratio = -1.0;           // combined: PT samples per pixel per RB iteration (0: RB alone); < 0: auto
-  std::string rb_level = "corrected";  // combined, product weights: RB's layer level, corrected (from PT's too) or own
+  std::string rb_level = "regional";  // combined, product weights: RB's layer level: regional, corrected or own
+  int regions = 8;               // --regions N: the N x N grid of the regional error and --rb-level regional
+  double target_block_error = 0.0;  // --target-block-error: stop once the expected worst region's error is at most this
   bool all_layers = false;       // --layers all: also pt_raw and rb_raw
   bool light_sampling = true;    // --no-light-sampling turns it off (light_sampling_applies says where it acts)
   std::string light_selection = "tree";  // light sampling's choice of light: tree (per receiving patch) or power
@@ -74,11 +76,13 @@ struct RenderSpec {
 // sum keep the paper's two estimators.
 bool light_sampling_applies(const RenderSpec& o);
 
-// --rb-level corrected (image/rb_level.h): --mode combined with product weights, whose PT samples
-// also estimate RB's share (PT's unweighted less its weighted image); --ratio 0 has no PT to ask.
+// --rb-level corrected or regional (image/rb_level.h): --mode combined with product weights, whose PT
+// samples also estimate RB's share (PT's unweighted less its weighted image); --ratio 0 has no PT to ask.
 inline bool rb_level_corrected(const RenderSpec& o) {
-  return o.mode == "combined" && o.weights == "product" && o.rb_level == "corrected" && o.ratio != 0.0;
+  return o.mode == "combined" && o.weights == "product" && o.rb_level != "own" && o.ratio != 0.0;
 }
+// The grid --rb-level's factors are per region of: regional, N x N; corrected, one for the image.
+inline int rb_level_regions(const RenderSpec& o) { return o.rb_level == "regional" ? o.regions : 1; }
 
 // --ratio auto (the default of --mode combined): a timed probe before the render picks c.
 inline bool ratio_is_auto(const RenderSpec& o) { return o.mode == "combined" && o.ratio < 0.0; }

@@ -4,6 +4,7 @@
 #include "image/accumulator.h"
 #include "image/error_estimate.h"
 #include "image/rb_level.h"
+#include "image/regional_error.h"
 #include "passes/checkpoint.h"
 #include "passes/combined.h"
 #include "passes/each_view.h"
@@ -35,7 +36,9 @@ struct RenderView {
   Accumulator pt_accum, rb_accum;
   std::optional<ImageErrorEstimate> error_estimate;
   double estimated_rel_mse = NAN;
-  std::optional<RbLevel> rb_level;  // --rb-level corrected: RB's layer level from both estimators
+  std::optional<RbLevel> rb_level;  // --rb-level corrected or regional: RB's layer level from both estimators
+  std::optional<RegionalError> regional_error;  // each region's error (image/regional_error.h)
+  double expected_worst_region_error = NAN;     // its expected largest relative error
   std::string out_prefix;  // --out, or PREFIX_0000, PREFIX_0001, ... for a walkthrough's frames
 };
 
@@ -81,6 +84,7 @@ struct RenderState {
   std::string key;  // the checkpoint key
 
   double estimated_rel_mse = NAN;  // the worst view's
+  double expected_worst_region_error = NAN;  // the worst view's (image/regional_error.h)
 
   std::unique_ptr<ProgressivePass> each_view_pt;  // a walkthrough's path tracers, one per view
   std::unique_ptr<ProgressivePass> schedule;  // the combination or the devices' lanes, when there is one

@@ -2,6 +2,7 @@
 
 #include "render/render_state.h"
 
+#include <cmath>
 #include <map>
 
 namespace bp {
@@ -113,21 +114,71 @@ void add_error_estimate_stats(const RenderState& s, nlohmann::json& stats) {
   stats["error_estimate"] = {{"degrees_of_freedom", e.degrees_of_freedom()}, {"levels", levels}, {"layers", layers}};
 }
 
-// --rb-level (image/rb_level.h): per channel, the factor on RB's layer and the two levels it weighs.
+// --rb-level (image/rb_level.h): per channel, the factor on RB's layer and the two levels it weighs
+// (corrected: one each; regional: one per region, row by row).
 void add_rb_level_stats(const RenderState& s, nlohmann::json& stats) {
   if (!s.first_view().rb_level) {
     stats["rb_level"] = {{"mode", "own"}};
     return;
   }
   const RbLevel& l = *s.first_view().rb_level;
-  const auto json3 = [](const std::array<double, 3>& v) { return nlohmann::json::array({v[0], v[1], v[2]}); };
-  stats["rb_level"] = {{"mode", "corrected"},
+  const bool one = l.grid().count() == 1;
+  const auto json3 = [&](const std::vector<std::array<double, 3>>& v) {
+    nlohmann::json out = nlohmann::json::array();
+    for (const auto& a : v) out.push_back(nlohmann::json::array({a[0], a[1], a[2]}));
+    return one ? out[0] : out;
+  };
+  stats["rb_level"] = {{"mode", s.spec.rb_level},
+                       {"regions", {l.grid().columns, l.grid().rows}},
                        {"factors", json3(l.factors())},
                        {"rb", json3(l.rb_levels())},
                        {"rb_stderr", json3(l.rb_standard_errors())},
                        {"pt", json3(l.pt_levels())},
                        {"pt_stderr", json3(l.pt_standard_errors())},
                        {"batches", l.batches()}};
+}
+
+// The regional error (image/regional_error.h): per region, row by row, the image's mean luminance
+// and its estimated relative standard error; with --reference, each region's relative error against
+// the reference's and its z-score against the estimate.
+void add_regional_error_stats(const RenderState& s, const RenderResult& r, nlohmann::json& stats) {
+  const RenderView& view = s.first_view();
+  const RegionalError& e = *view.regional_error;
+  const RegionGrid& g = e.grid();
+  const auto finite_or_null = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); };
+  nlohmann::json means = nlohmann::json::array(), relative = nlohmann::json::array();
+  const std::vector<double> mean = e.region_means(), rel = e.relative_standard_errors();
+  for (std::size_t b = 0; b < g.count(); ++b) {
+    means.push_back(finite_or_null(mean[b]));
+    relative.push_back(finite_or_null(rel[b]));
+  }
+  double worst_se = NAN;
+  for (double v : rel)
+    if (std::isfinite(v) && !(v <= worst_se)) worst_se = v;
+  nlohmann::json out = {{"regions", {g.columns, g.rows}},
+                        {"degrees_of_freedom", e.degrees_of_freedom()},
+                        {"mean_luminance", means},
+                        {"relative_stderr", relative},
+                        {"largest_relative_stderr", finite_or_null(worst_se)},
+                        {"expected_worst_error", finite_or_null(view.expected_worst_region_error)},
+                        {"rb_batch_correlation", finite_or_null(e.rb_batch_correlation())}};
+  if (s.scene.reference && !r.layers.empty()) {
+    const std::vector<double> image = g.sums(r.layers.front().second.rgb), ref = g.sums(s.scene.reference->rgb);
+    nlohmann::json errors = nlohmann::json::array(), z = nlohmann::json::array();
+    double worst = 0.0, worst_z = 0.0;
+    for (std::size_t b = 0; b < g.count(); ++b) {
+      const double yi = luminance(image[b * 3], image[b * 3 + 1], image[b * 3 + 2]);
+      const double yr = luminance(ref[b * 3], ref[b * 3 + 1], ref[b * 3 + 2]);
+      const double err = yr > 0.0 ? yi / yr - 1.0 : NAN;
+      const double zb = std::isfinite(rel[b]) && rel[b] > 0.0 && yi > 0.0 ? (yi - yr) / (rel[b] * yi) : NAN;
+      errors.push_back(finite_or_null(err));
+      z.push_back(finite_or_null(zb));
+      if (std::isfinite(err)) worst = std::max(worst, std::abs(err));
+      if (std::isfinite(zb)) worst_z = std::max(worst_z, std::abs(zb));
+    }
+    out["reference"] = {{"relative_error", errors}, {"z", z}, {"worst_error", worst}, {"worst_z", worst_z}};
+  }
+  stats["regional_error"] = out;
 }
 
 nlohmann::json vector_json(const glm::vec3& v) { return {v.x, v.y, v.z}; }
@@ -208,11 +259,11 @@ nlohmann::json render_stats(const RenderState& s, const RenderResult& r) {
     stats["reference"] = {{"path", o.reference_path}, {"layers", metrics}};
   }
   add_error_estimate_stats(s, stats);
+  add_regional_error_stats(s, r, stats);
   if (s.walkthrough()) add_frame_stats(s, r, stats);
-  if (o.target_error > 0.0) {
-    stats["target_error"] = o.target_error;
-    stats["target_reached"] = outcome.target_reached;
-  }
+  if (o.target_error > 0.0) stats["target_error"] = o.target_error;
+  if (o.target_block_error > 0.0) stats["target_block_error"] = o.target_block_error;
+  if (o.target_error > 0.0 || o.target_block_error > 0.0) stats["target_reached"] = outcome.target_reached;
   return stats;
 }
 

@@ -32,32 +32,42 @@ struct SeedStatistics {
 
 // Eight seeds at N2/N1 = 1 (RB's weighted layer about a fifth of the image; its level varies by a
 // few percent between seeds through the per-vertex beta, PT's by a few tenths): a t-test across
-// seeds of PT's level less RB's, and of the corrected image's mean against 2. A PT share taken
-// without its weighted part (level 2 instead of 0.4), or RB's layer scaled twice, fails both.
+// seeds of PT's level less RB's, and of the corrected image's mean against 2, with one factor
+// (corrected) and with the regional field (the default, 8x8 regions of 2x2 pixels: PT's estimate of
+// each region's share from 256 samples). A PT share taken without its weighted part (level 2
+// instead of 0.4), or RB's layer scaled twice, fails both.
 TEST(RbLevelCli, FurnaceLevelsAgreeAndTheCorrectedImageKeepsTheFurnacesValue) {
   const std::string dir = fresh_dir("rb_level_furnace");
   constexpr int kSeeds = 8;
   const double alpha = sidak_alpha(1e-3, 2);
-  SeedStatistics level_difference, corrected_mean;
+  SeedStatistics level_difference, corrected_mean, regional_mean;
   for (int seed = 1; seed <= kSeeds; ++seed) {
     const std::string out = dir + "/s" + std::to_string(seed);
-    CliResult r = run_cli("render " + kFurnace + "--width 16 --height 16 --mode combined --ratio 1 --spp 64 --seed " +
-                          std::to_string(seed) + " --out " + out + " --stats " + out + ".json");
+    const std::string render = "render " + kFurnace + "--width 16 --height 16 --mode combined --ratio 1 --spp 64 --seed " +
+                               std::to_string(seed);
+    CliResult r = run_cli(render + " --rb-level corrected --out " + out + " --stats " + out + ".json");
     ASSERT_EQ(r.exit_code, 0) << r.output;
     const nlohmann::json level = nlohmann::json::parse(std::ifstream(out + ".json"))["rb_level"];
     ASSERT_EQ(level["mode"], "corrected");
     level_difference.add(level["pt"][0].get<double>() - level["rb"][0].get<double>());
     corrected_mean.add(image_mean(read_exr(out + ".exr")));
+    CliResult regional = run_cli(render + " --out " + out + "r --stats " + out + "r.json");
+    ASSERT_EQ(regional.exit_code, 0) << regional.output;
+    ASSERT_EQ(nlohmann::json::parse(std::ifstream(out + "r.json"))["rb_level"]["mode"], "regional");
+    regional_mean.add(image_mean(read_exr(out + "r.exr")));
   }
   const double t_levels = level_difference.mean() / level_difference.standard_error();
   const double t_image = (corrected_mean.mean() - kFurnaceValue) / corrected_mean.standard_error();
-  std::printf("PT - RB level %.5f +- %.5f (t %.2f); corrected image %.5f +- %.5f (t %.2f)\n",
+  const double t_regional = (regional_mean.mean() - kFurnaceValue) / regional_mean.standard_error();
+  std::printf("PT - RB level %.5f +- %.5f (t %.2f); corrected image %.5f +- %.5f (t %.2f); regional %.5f +- %.5f (t %.2f)\n",
               level_difference.mean(), level_difference.standard_error(), t_levels, corrected_mean.mean(),
-              corrected_mean.standard_error(), t_image);
+              corrected_mean.standard_error(), t_image, regional_mean.mean(), regional_mean.standard_error(), t_regional);
   EXPECT_GT(student_t_two_sided_p(t_levels, kSeeds - 1), alpha);
   EXPECT_GT(student_t_two_sided_p(t_image, kSeeds - 1), alpha);
+  EXPECT_GT(student_t_two_sided_p(t_regional, kSeeds - 1), alpha);
   // Power: the image mean's standard error is under 0.5 % of its value, so a 2 % bias is t > 4.
   EXPECT_LT(corrected_mean.standard_error(), 0.005 * kFurnaceValue);
+  EXPECT_LT(regional_mean.standard_error(), 0.005 * kFurnaceValue);
 }
 
 // The image written is pt + s·rb per channel with the stats' factors s (corrected), and pt + rb (own).
@@ -82,6 +92,33 @@ TEST(RbLevelCli, WrittenImageIsPtPlusTheFactorTimesRb) {
     if (mode == "corrected") {
       EXPECT_GT(largest_factor_deviation, 0.0) << "the correction did nothing";
     }
+  }
+  // regional: each pixel's factor (image − pt) / rb lies between the regions' least and largest
+  // factors (the field interpolates them), and the field is not one constant.
+  {
+    const std::string out = dir + "/regional";
+    CliResult r = run_cli("render " + kFurnace + "--width 12 --height 10 --mode combined --ratio 1/2 --spp 16 " +
+                          "--regions 3 --out " + out + " --stats " + out + ".json");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const nlohmann::json level = nlohmann::json::parse(std::ifstream(out + ".json"))["rb_level"];
+    ASSERT_EQ(level["mode"], "regional");
+    ASSERT_EQ(level["factors"].size(), 9u);
+    const ImageRGB image = read_exr(out + ".exr"), pt = read_exr(out + ".exr", "pt"), rb = read_exr(out + ".exr", "rb");
+    double least_seen = INFINITY, largest_seen = -INFINITY;
+    for (std::size_t i = 0; i < image.rgb.size(); ++i) {
+      if (rb.rgb[i] <= 1e-3f) continue;
+      double least = INFINITY, largest = -INFINITY;
+      for (const auto& f : level["factors"]) {
+        least = std::min(least, f[i % 3].get<double>());
+        largest = std::max(largest, f[i % 3].get<double>());
+      }
+      const double s = (double(image.rgb[i]) - pt.rgb[i]) / rb.rgb[i];
+      EXPECT_GE(s, least - 1e-4) << "value " << i;
+      EXPECT_LE(s, largest + 1e-4) << "value " << i;
+      least_seen = std::min(least_seen, s);
+      largest_seen = std::max(largest_seen, s);
+    }
+    EXPECT_GT(largest_seen - least_seen, 1e-3) << "the regional field is one constant";
   }
   CliResult bad = run_cli("render " + kFurnace + "--mode combined --spp 1 --rb-level maybe --out " + dir + "/bad");
   EXPECT_EQ(bad.exit_code, 2);

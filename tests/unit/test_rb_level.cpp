@@ -32,6 +32,7 @@ TEST(RbLevel, FactorIsOneWhereItCannotBeTrusted) {
 
 // A two-pixel image whose rounds add, per pixel and channel, RB's weighted value rb_value and PT's
 // weighted w and unweighted w + pt_complement.
+const RegionGrid kWhole = RegionGrid::over(2, 1, 1, 1);
 struct Rounds {
   Accumulator pt{2, 1, true}, rb{2, 1, false};
   void add(double rb_value, double pt_complement, double w = 0.25) {
@@ -47,7 +48,7 @@ struct Rounds {
 
 TEST(RbLevel, LevelsAndStandardErrorsAreTheBatchMeans) {
   Rounds r;
-  RbLevel level(0, r.pt, 1, r.rb, 1, std::nullopt);
+  RbLevel level(kWhole, 0, r.pt, 1, r.rb, 1, std::nullopt);
   // Batches of one round: RB 1, 3 (mean 2, s^2 = 2, Var of the mean 1); PT 0.5 twice (variance 0).
   r.add(1.0, 0.5);
   level.add(1);
@@ -55,11 +56,11 @@ TEST(RbLevel, LevelsAndStandardErrorsAreTheBatchMeans) {
   level.add(2);
   EXPECT_EQ(level.batches(), 2u);
   for (int c = 0; c < 3; ++c) {
-    EXPECT_DOUBLE_EQ(level.rb_levels()[c], 2.0);
-    EXPECT_DOUBLE_EQ(level.pt_levels()[c], 0.5);
-    EXPECT_DOUBLE_EQ(level.rb_standard_errors()[c], 1.0);
-    EXPECT_DOUBLE_EQ(level.pt_standard_errors()[c], 0.0);
-    EXPECT_DOUBLE_EQ(level.factors()[c], 0.25);  // PT exact: its level 0.5 over RB's 2
+    EXPECT_DOUBLE_EQ(level.rb_levels()[0][c], 2.0);
+    EXPECT_DOUBLE_EQ(level.pt_levels()[0][c], 0.5);
+    EXPECT_DOUBLE_EQ(level.rb_standard_errors()[0][c], 1.0);
+    EXPECT_DOUBLE_EQ(level.pt_standard_errors()[0][c], 0.0);
+    EXPECT_DOUBLE_EQ(level.factors()[0][c], 0.25);  // PT exact: its level 0.5 over RB's 2
   }
 }
 
@@ -67,8 +68,8 @@ TEST(RbLevel, ResumedStateContinuesTheSameBatches) {
   std::mt19937 rng(3);
   std::normal_distribution<double> noise(0.0, 0.1);
   Rounds whole, part;
-  RbLevel uninterrupted(0, whole.pt, 1, whole.rb, 1, std::nullopt);
-  std::optional<RbLevel> first(std::in_place, 0, part.pt, 1, part.rb, 1, std::nullopt);
+  RbLevel uninterrupted(kWhole, 0, whole.pt, 1, whole.rb, 1, std::nullopt);
+  std::optional<RbLevel> first(std::in_place, kWhole, 0, part.pt, 1, part.rb, 1, std::nullopt);
   std::optional<RbLevel> resumed;
   for (std::uint64_t round = 1; round <= 12; ++round) {
     const double a = 1.0 + noise(rng), b = 0.9 + noise(rng);
@@ -78,13 +79,13 @@ TEST(RbLevel, ResumedStateContinuesTheSameBatches) {
     if (round <= 5) {
       first->add(round);
     } else {
-      if (!resumed) resumed.emplace(5, part.pt, 1, part.rb, 1, first->state());
+      if (!resumed) resumed.emplace(kWhole, 5, part.pt, 1, part.rb, 1, first->state());
       resumed->add(round);
     }
   }
   for (int c = 0; c < 3; ++c) {
-    EXPECT_DOUBLE_EQ(resumed->factors()[c], uninterrupted.factors()[c]);
-    EXPECT_DOUBLE_EQ(resumed->rb_standard_errors()[c], uninterrupted.rb_standard_errors()[c]);
+    EXPECT_DOUBLE_EQ(resumed->factors()[0][c], uninterrupted.factors()[0][c]);
+    EXPECT_DOUBLE_EQ(resumed->rb_standard_errors()[0][c], uninterrupted.rb_standard_errors()[0][c]);
   }
 }
 
@@ -100,12 +101,12 @@ TEST(RbLevel, CorrectedLevelIsCentredAndFarLessNoisyThanRbsOwn) {
   double sum_own = 0, sum_sq_own = 0, sum_corrected = 0, sum_sq_corrected = 0;
   for (int k = 0; k < kRenders; ++k) {
     Rounds r;
-    RbLevel level(0, r.pt, 1, r.rb, 1, std::nullopt);
+    RbLevel level(kWhole, 0, r.pt, 1, r.rb, 1, std::nullopt);
     for (std::uint64_t round = 1; round <= kRounds; ++round) {
       r.add(kTruth + rb_noise(rng), kTruth + pt_noise(rng));
       level.add(round);
     }
-    const double own = level.rb_levels()[0], corrected = own * level.factors()[0];
+    const double own = level.rb_levels()[0][0], corrected = own * level.factors()[0][0];
     sum_own += own;
     sum_sq_own += own * own;
     sum_corrected += corrected;

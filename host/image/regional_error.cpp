@@ -1,0 +1,219 @@
+#include "image/regional_error.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace bp {
+
+RegionalError::RegionalError(RegionGrid grid, const Inputs& in, std::uint64_t first_round,
+                             const std::optional<State>& resumed)
+    : grid_(grid), in_(in) {
+  for (std::size_t n : grid_.pixel_counts()) inv_pixels_.push_back(1.0 / double(n));
+  const std::size_t values = grid_.count() * 3;
+  const auto make = [&](std::optional<Track>& t) { t.emplace(Track{std::vector<double>(values, 0.0), {}, {}, {}}); };
+  if (in_.pt) make(w_);
+  if (in_.pt && in_.pt->keeps_raw()) make(u_);
+  if (in_.rb) make(r_);
+  if (u_ && r_) make(d_);
+  update_sums();
+  std::size_t k = 0;
+  for (Track* t : tracks()) {
+    t->round_sums = RoundSums{&t->sums, 1.0};
+    const std::uint64_t batch_rounds = r_ && t == &*r_ ? in_.rb_batch_rounds : 1;
+    if (!resumed) {
+      t->estimate.emplace(grid_.columns, grid_.rows, batch_rounds, 1, first_round,
+                          first_round ? &t->round_sums : nullptr);
+    } else {
+      if (k >= resumed->layers.size())
+        throw std::runtime_error("the regional error's batch statistics hold fewer layers than this render");
+      t->estimate.emplace(BatchMeansErrorEstimate::from_state(resumed->layers[k], grid_.columns, grid_.rows));
+    }
+    ++k;
+  }
+  if (resumed && k != resumed->layers.size())
+    throw std::runtime_error("the regional error's batch statistics hold more layers than this render");
+  rb_factors_.assign(grid_.count(), 1.0);
+  if (r_) rb_batches_seen_ = r_->estimate->batches();
+}
+
+std::vector<RegionalError::Track*> RegionalError::tracks() {
+  std::vector<Track*> out;
+  for (std::optional<Track>* t : {&w_, &u_, &r_, &d_})
+    if (*t) out.push_back(&**t);
+  return out;
+}
+std::vector<const RegionalError::Track*> RegionalError::tracks() const {
+  std::vector<const Track*> out;
+  for (const std::optional<Track>* t : {&w_, &u_, &r_, &d_})
+    if (*t) out.push_back(&**t);
+  return out;
+}
+
+void RegionalError::update_sums() {
+  // Each layer's region means of luminance per round: sums / rounds is the region's mean (channel 0).
+  const auto fill = [&](Track& t, const std::vector<double>& region_rgb, double per_round) {
+    for (std::size_t r = 0; r < grid_.count(); ++r)
+      t.sums[r * 3] = luminance(region_rgb[r * 3], region_rgb[r * 3 + 1], region_rgb[r * 3 + 2]) * per_round *
+                      inv_pixels_[r];
+  };
+  if (w_) fill(*w_, grid_.sums(in_.pt->sum), 1.0 / in_.pt_samples);
+  if (u_) fill(*u_, grid_.sums(in_.pt->raw_sum), 1.0 / in_.pt_samples);
+  if (r_) fill(*r_, grid_.sums(in_.rb->sum), 1.0 / in_.rb_iterations);
+  if (d_)
+    for (std::size_t i = 0; i < d_->sums.size(); ++i) d_->sums[i] = u_->sums[i] - w_->sums[i];  // d = u − w
+}
+
+void RegionalError::add(std::uint64_t rounds) {
+  const std::vector<double> rb_before = r_ ? r_->estimate->state().levels[0].open_sums : std::vector<double>{};
+  const std::uint64_t rb_open_round = r_ ? r_->estimate->state().levels[0].open_round : 0;
+  update_sums();
+  for (Track* t : tracks()) t->estimate->add(rounds, t->round_sums);
+  if (r_ && r_->estimate->batches() > rb_batches_seen_) {  // a batch of RB closed: keep its region means
+    rb_batches_seen_ = r_->estimate->batches();
+    const double n = double(rounds - rb_open_round);
+    for (std::size_t b = 0; b < grid_.count(); ++b)
+      r_->batch_means.push_back((r_->sums[b * 3] - rb_before[b * 3]) / n);
+  }
+}
+
+void RegionalError::set_rb_factors(std::vector<double> pixel_factors, bool regional_field) {
+  regional_field_ = regional_field;
+  rb_factors_.assign(grid_.count(), 1.0);
+  if (pixel_factors.empty() || !in_.rb) return;
+  // s_b: the factors' effect on the region's mean luminance of RB's layer, Y(Σ f·rb) / Y(Σ rb).
+  std::vector<double> scaled(in_.rb->sum.size());
+  for (std::size_t i = 0; i < scaled.size(); ++i) scaled[i] = in_.rb->sum[i] * pixel_factors[i];
+  const std::vector<double> with = grid_.sums(scaled), without = grid_.sums(in_.rb->sum);
+  for (std::size_t b = 0; b < grid_.count(); ++b) {
+    const double y = luminance(without[b * 3], without[b * 3 + 1], without[b * 3 + 2]);
+    if (y > 0.0) rb_factors_[b] = luminance(with[b * 3], with[b * 3 + 1], with[b * 3 + 2]) / y;
+  }
+}
+
+std::vector<double> RegionalError::means(const Track& t) const {
+  std::vector<double> out(grid_.count(), std::nan(""));
+  const std::uint64_t rounds = t.estimate->rounds();
+  if (rounds == 0) return out;
+  for (std::size_t b = 0; b < out.size(); ++b) out[b] = t.sums[b * 3] / double(rounds);
+  return out;
+}
+
+std::vector<double> RegionalError::variances(const Track& t) const {
+  std::vector<double> out(grid_.count(), std::nan(""));
+  const std::vector<double> var = t.estimate->variance_of_mean();
+  if (var.empty()) return out;
+  for (std::size_t b = 0; b < out.size(); ++b) out[b] = var[b * 3];
+  return out;
+}
+
+namespace {
+// RB's weight λ in the inverse-variance mean of its share (image/rb_level.h's rb_level_factor).
+double rb_weight(double v_r, double v_d) { return v_r + v_d > 0.0 ? v_d / (v_r + v_d) : 1.0; }
+}  // namespace
+
+std::vector<double> RegionalError::region_means() const {
+  const std::size_t n = grid_.count();
+  const std::vector<double> none(n, 0.0);
+  const std::vector<double> w = w_ ? means(*w_) : none, r = r_ ? means(*r_) : none;
+  std::vector<double> out(n);
+  if (regional_field_ && d_) {  // w + λ r + (1 − λ) d, λ from the variances (NaN before two batches: w + r)
+    const std::vector<double> d = means(*d_), v_r = variances(*r_), v_d = variances(*d_);
+    for (std::size_t b = 0; b < n; ++b) {
+      const double lambda = std::isnan(v_r[b] + v_d[b]) ? 1.0 : rb_weight(v_r[b], v_d[b]);
+      out[b] = w[b] + lambda * r[b] + (1.0 - lambda) * d[b];
+    }
+    return out;
+  }
+  for (std::size_t b = 0; b < n; ++b) out[b] = w[b] + rb_factors_[b] * r[b];  // w + s·r
+  return out;
+}
+
+std::vector<double> RegionalError::standard_errors() const {
+  const std::size_t n = grid_.count();
+  const std::vector<double> none(n, 0.0);
+  const std::vector<double> v_w = w_ ? variances(*w_) : none, v_r = r_ ? variances(*r_) : none;
+  std::vector<double> out(n);
+  const bool field = regional_field_ && d_;
+  const std::vector<double> v_u = field ? variances(*u_) : none, v_d = field ? variances(*d_) : none;
+  for (std::size_t b = 0; b < n; ++b) {
+    double v;
+    if (field) {
+      const double lambda = rb_weight(v_r[b], v_d[b]);
+      const double cov_w_d = 0.5 * (v_u[b] - v_w[b] - v_d[b]);  // u = w + d
+      v = v_w[b] + lambda * lambda * v_r[b] + (1.0 - lambda) * (1.0 - lambda) * v_d[b] +
+          2.0 * (1.0 - lambda) * cov_w_d;
+    } else {
+      v = v_w[b] + rb_factors_[b] * rb_factors_[b] * v_r[b];  // Var(w + s·r), independent layers
+    }
+    out[b] = std::isnan(v) ? v : std::sqrt(std::max(0.0, v));
+  }
+  return out;
+}
+
+std::vector<double> RegionalError::relative_standard_errors() const {
+  const std::vector<double> mean = region_means(), se = standard_errors();
+  std::vector<double> out(mean.size());
+  for (std::size_t b = 0; b < out.size(); ++b) out[b] = mean[b] > 0.0 ? se[b] / mean[b] : std::nan("");
+  return out;
+}
+
+double RegionalError::degrees_of_freedom() const {
+  double least = INFINITY;
+  for (const Track* t : tracks()) least = std::min(least, double(t->estimate->batches()) - 1.0);
+  return std::isfinite(least) ? std::max(0.0, least) : 0.0;
+}
+
+double RegionalError::rb_batch_correlation() const {
+  if (!r_) return std::nan("");
+  const std::size_t n = grid_.count(), batches = r_->batch_means.size() / n;
+  if (batches < 3) return std::nan("");
+  // Pooled over the regions: Σ_b Σ_k (x_bk − x̄_b)(x_b,k+1 − x̄_b) / Σ_b Σ_k (x_bk − x̄_b)², each region
+  // standardised by its own variance so that bright regions do not dominate.
+  double num = 0.0, den_weight = 0.0;
+  for (std::size_t b = 0; b < n; ++b) {
+    double mean = 0.0;
+    for (std::size_t k = 0; k < batches; ++k) mean += r_->batch_means[k * n + b];
+    mean /= double(batches);
+    double ss = 0.0, lag = 0.0;
+    for (std::size_t k = 0; k < batches; ++k) {
+      const double x = r_->batch_means[k * n + b] - mean;
+      ss += x * x;
+      if (k + 1 < batches) lag += x * (r_->batch_means[(k + 1) * n + b] - mean);
+    }
+    if (ss <= 0.0) continue;
+    num += lag / ss;
+    den_weight += 1.0;
+  }
+  return den_weight > 0.0 ? num / den_weight : std::nan("");
+}
+
+RegionalError::State RegionalError::state() const {
+  State s;
+  for (const Track* t : tracks()) s.layers.push_back(t->estimate->state());
+  return s;
+}
+
+double expected_largest_error(const std::vector<double>& standard_deviations) {
+  double largest = 0.0;
+  std::vector<double> sigma;
+  for (double s : standard_deviations)
+    if (std::isfinite(s) && s > 0.0) {
+      sigma.push_back(s);
+      largest = std::max(largest, s);
+    }
+  if (sigma.empty()) return std::nan("");
+  // ∫₀^∞ P(max_b |e_b| > t) dt by the midpoint rule to 10 σ_max (the tail beyond is below 1e-20).
+  const int steps = 2000;
+  const double dt = 10.0 * largest / steps;
+  double sum = 0.0;
+  for (int i = 0; i < steps; ++i) {
+    const double t = (i + 0.5) * dt;
+    double all_within = 1.0;
+    for (double s : sigma) all_within *= std::erf(t / (s * std::sqrt(2.0)));
+    sum += (1.0 - all_within) * dt;
+  }
+  return sum;
+}
+
+}  // namespace bp

@@ -1,0 +1,104 @@
+// The image's regional error without a reference (DESIGN.md §9, "Regional error"): per region of a
+// grid (image/regions.h), the standard error of the region's mean luminance in the image as written.
+//
+// A pixel's standard error is not enough: RB's chain moves the light of whole rooms together, so
+// its pixels' errors are correlated and a wall's mean is far more wrong than its pixels' variances
+// summed as if independent say. Here each layer's region means are batched like the image's error
+// estimate (image/error_estimate.h), so a batch's region mean carries every correlation inside the
+// region: the variance of a region's mean is the spread of its batch means, with no assumption
+// about how pixels correlate. RB's batches must outlast its chain's correlation between iterations
+// (kRegionalBatchRbIterations: its lag-1 correlation of region means is measured in --stats).
+//
+// What is tracked per region, as the mean luminance of a round's estimate: PT's weighted layer w,
+// PT's unweighted estimate u, RB's weighted layer r, and PT's estimate of RB's share d = u − w.
+// The image's region mean is
+//   w + s·r                        RB's layer scaled by a factor s taken as exact (--rb-level own:
+//                                  s = 1; corrected: one factor per channel), or
+//   w + λ r + (1 − λ) d            --rb-level regional: RB's share in the region is the
+//                                  inverse-variance mean M of r and d, λ = V_d / (V_r + V_d),
+// with variances V_w + s² V_r, or V_w + λ² V_r + (1 − λ)² V_d + 2 (1 − λ) Cov(w, d), where
+// Cov(w, d) = (V_u − V_w − V_d) / 2 since u = w + d (PT's layers share their samples).
+#pragma once
+#include "image/accumulator.h"
+#include "image/error_estimate.h"
+#include "image/regions.h"
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+namespace bp {
+
+// RB iterations per batch of the regional estimate, and the most a combined render's loop batch
+// holds (passes/combined.cpp), so that a short render of few rounds still has batches to spread.
+// Measured (README, "Regional error"): the lag-1 correlation of consecutive 32-iteration batches'
+// region means on the houses and the Cornell boxes.
+constexpr std::uint64_t kRegionalBatchRbIterations = 32;
+
+// The default grid: 8x8 regions (at 640x360, blocks of 80x45 pixels).
+constexpr int kRegionGridDefault = 8;
+
+class RegionalError {
+ public:
+  struct Inputs {
+    const Accumulator* pt = nullptr;  // PT's layer (its raw sums, where kept, give u and d)
+    std::uint32_t pt_samples = 1;     // per round
+    const Accumulator* rb = nullptr;  // RB's layer
+    std::uint32_t rb_iterations = 1;  // per round
+    std::uint64_t rb_batch_rounds = 1;
+  };
+  struct State {
+    std::vector<BatchMeansErrorEstimate::State> layers;  // w, u, r, d: those that exist, in that order
+  };
+  // From round first_round (the accumulators hold rounds [0, first_round)), or a resumed state;
+  // throws std::runtime_error if the state does not fit.
+  RegionalError(RegionGrid grid, const Inputs& in, std::uint64_t first_round, const std::optional<State>& resumed);
+
+  // After a batch of the render loop (the accumulators hold rounds [0, rounds)).
+  void add(std::uint64_t rounds);
+  // How RB's layer counts in the image: its per-pixel, per-channel factors (empty: 1), and whether
+  // they are --rb-level regional's field on this grid (the λ formula above).
+  void set_rb_factors(std::vector<double> pixel_factors, bool regional_field);
+
+  const RegionGrid& grid() const { return grid_; }
+  // Per region: the image's mean luminance, and its standard error (NaN until every tracked layer has
+  // two batches).
+  std::vector<double> region_means() const;
+  std::vector<double> standard_errors() const;
+  // Per region, the standard error over the mean (NaN where the mean is not positive).
+  std::vector<double> relative_standard_errors() const;
+  // The least degrees of freedom of the layers' variances (batches − 1); 0 until each has two.
+  double degrees_of_freedom() const;
+  // Per region, the lag-1 correlation of RB's consecutive batch means (luminance), pooled over the
+  // regions: the check that the batches outlast the chain's correlation (NaN: no RB, or < 3 batches).
+  double rb_batch_correlation() const;
+  State state() const;
+
+ private:
+  struct Track {
+    std::vector<double> sums;  // per region (x 3 channels, luminance in the first), over rounds
+    RoundSums round_sums;
+    std::optional<BatchMeansErrorEstimate> estimate;
+    std::vector<double> batch_means;  // RB's: every closed batch's region means, for the correlation
+  };
+  void update_sums();
+  std::vector<double> variances(const Track& t) const;
+  std::vector<double> means(const Track& t) const;
+  std::vector<Track*> tracks();
+  std::vector<const Track*> tracks() const;
+
+  RegionGrid grid_;
+  Inputs in_;
+  std::vector<double> inv_pixels_;     // per region, 1 / its pixels
+  std::optional<Track> w_, u_, r_, d_;
+  std::vector<double> rb_factors_;     // per region, the effective factor s on RB's mean luminance
+  bool regional_field_ = false;
+  std::uint64_t rb_batches_seen_ = 0;
+};
+
+// The expected largest of |e_b| over regions whose errors e_b are independent normals with these
+// standard deviations (NaN entries skipped): what "the worst block is off by" is expected to read.
+// E[max] = ∫₀^∞ (1 − Π_b erf(t / (σ_b √2))) dt.
+double expected_largest_error(const std::vector<double>& standard_deviations);
+
+}  // namespace bp
