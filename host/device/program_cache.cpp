@@ -2,11 +2,15 @@
 #include "device/kernel_source.h"
 #include "image/atomic_file.h"
 
+#include <unistd.h>
+
+#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <iterator>
+#include <mutex>
 
 namespace bp {
 namespace {
@@ -31,7 +35,65 @@ std::string build_log(const cl::Program& program, const cl::Device& device) {
   }
 }
 
+std::atomic<bool> verbose_builds{false};
+
+// The process's stderr (fd 2) sent to a temporary file while a program builds from source: PoCL's
+// compiler prints its summary ("1 warning generated.") there, beside the build log. One capture at
+// a time (fd 2 is the process's), so builds from source on several devices take turns.
+class StderrCapture {
+ public:
+  StderrCapture() : lock_(mutex()) {
+    std::fflush(stderr);
+    file_ = std::tmpfile();
+    if (!file_) return;
+    saved_ = ::dup(2);
+    if (saved_ < 0 || ::dup2(::fileno(file_), 2) < 0) {
+      if (saved_ >= 0) ::close(saved_);
+      std::fclose(file_);
+      file_ = nullptr;
+    }
+  }
+  StderrCapture(const StderrCapture&) = delete;
+  StderrCapture& operator=(const StderrCapture&) = delete;
+  ~StderrCapture() { finish(); }
+
+  // Puts stderr back and returns what was written to it meanwhile.
+  std::string finish() {
+    if (!file_) return {};
+    std::fflush(stderr);
+    ::dup2(saved_, 2);
+    ::close(saved_);
+    std::string text;
+    std::rewind(file_);
+    char buf[4096];
+    for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, file_)) > 0;) text.append(buf, n);
+    std::fclose(file_);
+    file_ = nullptr;
+    return text;
+  }
+
+ private:
+  static std::mutex& mutex() {
+    static std::mutex m;
+    return m;
+  }
+  std::lock_guard<std::mutex> lock_;
+  std::FILE* file_ = nullptr;
+  int saved_ = -1;
+};
+
+// The compiler's own output and the device's build log, for an error message or --verbose.
+std::string compiler_messages(const std::string& captured, const std::string& log) {
+  std::string text = captured;
+  if (!text.empty() && text.back() != '\n') text += '\n';
+  text += log;
+  while (!text.empty() && (text.back() == '\n' || text.back() == ' ')) text.pop_back();
+  return text.empty() ? "(none)" : text;
+}
+
 }  // namespace
+
+void set_verbose_kernel_builds(bool verbose) { verbose_builds = verbose; }
 
 std::filesystem::path kernel_cache_dir() {
   if (const char* dir = std::getenv("BUNDLEPATH_CACHE_DIR")) {
@@ -81,14 +143,24 @@ BuiltProgram build_program(const DeviceContext& dc, const std::string& main_file
 
   if (!result.from_cache) {
     cl::Program program(dc.context, source);
+    StderrCapture capture;
     try {
       program.build({dc.info.device}, options.c_str());
     } catch (const cl::BuildError&) {
+      const std::string captured = capture.finish();
       throw DeviceError("kernel build of kernels/" + main_file + " failed on " + dc.info.device_name +
-                        " (options: " + options + "):\n" + build_log(program, dc.info.device));
+                        " (options: " + options + "):\n" +
+                        compiler_messages(captured, build_log(program, dc.info.device)));
     } catch (const cl::Error& e) {
+      const std::string captured = capture.finish();
       throw DeviceError("kernel build of kernels/" + main_file + " failed on " + dc.info.device_name + ": " +
-                        cl_error_name(e.err()) + "\n" + build_log(program, dc.info.device));
+                        cl_error_name(e.err()) + "\n" + compiler_messages(captured, build_log(program, dc.info.device)));
+    }
+    const std::string captured = capture.finish();
+    if (verbose_builds) {
+      std::fprintf(stderr, "bundlepath: built kernels/%s on %s (options: %s); compiler output:\n%s\n",
+                   main_file.c_str(), dc.info.device_name.c_str(), options.c_str(),
+                   compiler_messages(captured, build_log(program, dc.info.device)).c_str());
     }
     result.program = program;
     if (!cached.empty()) {

@@ -13,6 +13,10 @@ struct BuiltProgram {
   bool from_cache = false;
 };
 
+// `render --verbose`: also print the compiler's output and build log of every program built from
+// source (they are always in the error when a build fails).
+void set_verbose_kernel_builds(bool verbose);
+
 // Where binaries are cached: $BUNDLEPATH_CACHE_DIR, else $XDG_CACHE_HOME/bundlepath/kernels, else
 // ~/.cache/bundlepath/kernels. BUNDLEPATH_CACHE_DIR=off disables the cache.
 std::filesystem::path kernel_cache_dir();
@@ -20,8 +24,9 @@ std::filesystem::path kernel_cache_dir();
 // Cache key: FNV-1a 64 over (source after includes, options, platform, device, driver version).
 std::string kernel_cache_key(const std::string& source, const std::string& options, const DeviceInfo& device);
 
-// Builds kernels/<main_file> with "-cl-std=CL1.2 " + extra_options. On a compile error throws
-// DeviceError carrying the device's build log (file names and lines are the real ones).
+// Builds kernels/<main_file> with "-cl-std=CL1.2 " + extra_options. What the compiler prints while
+// building from source is kept off stderr; on a compile error it throws DeviceError carrying that
+// and the device's build log (file names and lines are the real ones).
 BuiltProgram build_program(const DeviceContext& device, const std::string& main_file,
                            const std::string& extra_options = "");
 
