@@ -2,9 +2,11 @@
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "device/opencl.h"
+#include "device/program_cache.h"
 #include "render/ranks.h"
 #include "scene/gltf_loader.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <optional>
 #include <string>
@@ -52,6 +54,11 @@ int main(int argc, char** argv) {
       return bp::run_devices();
     }
     if (command == "render") {
+      // --verbose says only how much the kernel builds print; the render's options are the rest.
+      if (const auto v = std::remove(rest.begin(), rest.end(), "--verbose"); v != rest.end()) {
+        bp::set_verbose_kernel_builds(true);
+        rest.erase(v, rest.end());
+      }
       const bp::RenderOptions options = bp::parse_render_options(rest);
       session.emplace();
       return bp::run_render(options, session->ranks());
