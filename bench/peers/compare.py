@@ -1,0 +1,76 @@
+"""Image against reference, the figures of the peer table (issue 29). Runs in the peers' venv
+(numpy, OpenEXR):
+
+  python bench/peers/compare.py IMAGE.exr REFERENCE.exr [--block 8]      -> one JSON line
+
+* rel_mse: mean over pixels and RGB channels of (I - R)^2 / (R^2 + 0.01), bundlepath's definition
+  (`bundlepath compare`, host/image/image.h);
+* worst_block: the largest relative error |mean_b(I) - mean_b(R)| / mean_b(R) of the luminance
+  (Rec. 709) averaged over each BLOCK x BLOCK block (edge blocks as far as the image goes), over the
+  blocks whose reference mean is at least 1 % of the image's (black regions have no relative error);
+* mean, reference_mean, mean_rel: the image's mean luminance, the reference's, and their relative
+  difference.
+"""
+import argparse
+import json
+import sys
+
+import numpy as np
+import OpenEXR
+
+
+def read_rgb(path):
+    with OpenEXR.File(path) as f:
+        channels = f.channels()
+        if "RGB" in channels:
+            img = np.asarray(channels["RGB"].pixels, dtype=np.float64)
+        elif "RGBA" in channels:
+            img = np.asarray(channels["RGBA"].pixels, dtype=np.float64)[..., :3]
+        else:
+            names = sorted(channels)
+            pick = {c: next((n for n in names if n == c or n.endswith("." + c)), None) for c in "RGB"}
+            if None in pick.values():
+                raise SystemExit("%s: no R, G, B channels (has %s)" % (path, ", ".join(names)))
+            img = np.stack([np.asarray(channels[pick[c]].pixels, dtype=np.float64) for c in "RGB"], axis=-1)
+    return img
+
+
+def luminance(img):
+    return img @ np.array([0.2126, 0.7152, 0.0722])
+
+
+def block_means(lum, b):
+    h, w = lum.shape
+    out = []
+    for y in range(0, h, b):
+        for x in range(0, w, b):
+            out.append(lum[y:y + b, x:x + b].mean())
+    return np.array(out)
+
+
+def compare(image, reference, block=8):
+    if image.shape != reference.shape:
+        raise SystemExit("sizes differ: %s vs %s" % (image.shape, reference.shape))
+    if not np.all(np.isfinite(image)):
+        raise SystemExit("the image has non-finite pixels")
+    rel_mse = float(np.mean((image - reference) ** 2 / (reference ** 2 + 0.01)))
+    li, lr = luminance(image), luminance(reference)
+    bi, br = block_means(li, block), block_means(lr, block)
+    keep = br >= 0.01 * lr.mean()
+    rel = np.abs(bi[keep] - br[keep]) / br[keep]
+    return {"rel_mse": rel_mse, "worst_block": float(rel.max()) if rel.size else 0.0, "block": block,
+            "mean": float(li.mean()), "reference_mean": float(lr.mean()),
+            "mean_rel": float(li.mean() / lr.mean() - 1.0)}
+
+
+def main():
+    p = argparse.ArgumentParser()
+    p.add_argument("image")
+    p.add_argument("reference")
+    p.add_argument("--block", type=int, default=8)
+    a = p.parse_args()
+    print(json.dumps(compare(read_rgb(a.image), read_rgb(a.reference), a.block)))
+
+
+if __name__ == "__main__":
+    sys.exit(main())

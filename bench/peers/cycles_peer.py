@@ -1,0 +1,272 @@
+"""Renders a glTF scene with Blender Cycles 5 (PyPI bpy==5.0.1) under the conventions of
+bench/peers/convert.py, for the peer harness (issue 29). Runs in the peers' venv:
+
+  python bench/peers/cycles_peer.py SCENE OUT_PREFIX --width W --height H [--time S | --spp N]
+                                    [--threads T] [--seed K] [--guiding]
+
+Writes OUT_PREFIX.exr (linear RGBA float) and OUT_PREFIX.json: samples reached, the sampling time
+Cycles reports (its time limit counts sampling only and overruns by up to a third), the set-up time
+(scene conversion and Cycles' synchronisation: wall time of the whole render less sampling), wall.
+
+Settings, those a Blender user renders finals with: CPU, light tree on, no adaptive sampling, no
+denoiser, no clamping, no light threshold, no glossy filter, 1024 bounces of every kind (Russian
+roulette stays), a 1-pixel box filter, black world, view transform Standard; with --guiding, path
+guiding on surfaces (Cycles' defaults for its training). The scene is built from convert.load():
+Diffuse BSDFs of kd (times the base-colour texture, sRGB, if any), emission Le from the front face
+only unless the material is double-sided (Geometry.Backfacing masks the back), point and spot lights
+of 4 pi I watts with radius 0, a sun of the file's irradiance with angle 0, the file's camera
+(vertical FOV, sensor fit vertical).
+"""
+import argparse
+import json
+import math
+import os
+import re
+import sys
+import tempfile
+import time
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import convert  # noqa: E402
+
+import bpy  # noqa: E402
+from mathutils import Matrix, Vector  # noqa: E402
+
+
+def parse_args():
+    p = argparse.ArgumentParser()
+    p.add_argument("scene")
+    p.add_argument("out")
+    p.add_argument("--width", type=int, required=True)
+    p.add_argument("--height", type=int, required=True)
+    p.add_argument("--time", type=float, default=0.0)
+    p.add_argument("--spp", type=int, default=0)
+    p.add_argument("--threads", type=int, default=1)
+    p.add_argument("--seed", type=int, default=1)
+    p.add_argument("--guiding", action="store_true")
+    a = p.parse_args()
+    if (a.time > 0) == (a.spp > 0):
+        p.error("give exactly one of --time and --spp")
+    return a
+
+
+def make_material(m, index, scene, tmp):
+    mat = bpy.data.materials.new("m%d_%s" % (index, m["name"]))
+    mat.use_nodes = True
+    tree = mat.node_tree
+    for n in list(tree.nodes):
+        tree.nodes.remove(n)
+    out = tree.nodes.new("ShaderNodeOutputMaterial")
+    diffuse = tree.nodes.new("ShaderNodeBsdfDiffuse")
+    diffuse.inputs["Roughness"].default_value = 0.0
+    diffuse.inputs["Color"].default_value = (*m["kd"], 1.0)
+    t = m["texture"]
+    if t is not None:
+        tex = scene["textures"][t["texture"]]
+        img = tree.nodes.new("ShaderNodeTexImage")
+        img.image = bpy.data.images.load(convert.write_texture(scene, t["texture"], tmp))
+        img.image.colorspace_settings.name = "sRGB"
+        img.interpolation = "Closest" if tex["nearest"] else "Linear"
+        img.extension = {33071: "EXTEND", 33648: "MIRROR"}.get(tex["wrap_s"], "REPEAT")
+        uv = tree.nodes.new("ShaderNodeUVMap")
+        uv.uv_map = "uv"
+        tree.links.new(uv.outputs["UV"], img.inputs["Vector"])
+        mix = tree.nodes.new("ShaderNodeMix")
+        mix.data_type = "RGBA"
+        mix.blend_type = "MULTIPLY"
+        mix.inputs["Factor"].default_value = 1.0
+        tree.links.new(img.outputs["Color"], mix.inputs[6])
+        mix.inputs[7].default_value = (*t["factor"], 1.0)
+        tree.links.new(mix.outputs[2], diffuse.inputs["Color"])
+    surface = diffuse.outputs["BSDF"]
+    le = m["emission"]
+    if max(le) > 0.0:
+        peak = max(le)
+        emit = tree.nodes.new("ShaderNodeEmission")
+        emit.inputs["Color"].default_value = (le[0] / peak, le[1] / peak, le[2] / peak, 1.0)
+        emit.inputs["Strength"].default_value = peak
+        if not m["double_sided"]:  # glTF: single-sided emitters are black from behind
+            geo = tree.nodes.new("ShaderNodeNewGeometry")
+            front = tree.nodes.new("ShaderNodeMath")
+            front.operation = "MULTIPLY_ADD"  # peak * (-backfacing) + peak
+            front.inputs[1].default_value = -peak
+            front.inputs[2].default_value = peak
+            tree.links.new(geo.outputs["Backfacing"], front.inputs[0])
+            tree.links.new(front.outputs["Value"], emit.inputs["Strength"])
+        add = tree.nodes.new("ShaderNodeAddShader")
+        tree.links.new(surface, add.inputs[0])
+        tree.links.new(emit.outputs["Emission"], add.inputs[1])
+        surface = add.outputs["Shader"]
+        if hasattr(mat, "emission_sampling"):
+            mat.emission_sampling = "BOTH" if m["double_sided"] else "FRONT"
+    tree.links.new(surface, out.inputs["Surface"])
+    return mat
+
+
+def make_mesh(mesh, mat, m):
+    me = bpy.data.meshes.new(mesh["name"])
+    me.from_pydata([tuple(p) for p in mesh["positions"]], [], [tuple(t) for t in mesh["triangles"]])
+    if mesh["uvs"] is not None:
+        layer = me.uv_layers.new(name="uv")
+        flat = []
+        for tri in mesh["triangles"]:
+            for i in tri:
+                u, v = mesh["uvs"][i]
+                flat += [u, 1.0 - v]  # glTF's v runs down the image, Blender's up
+        layer.data.foreach_set("uv", flat)
+    me.materials.append(mat)
+    me.validate(clean_customdata=False)
+    if mesh["normals"] is not None:
+        me.polygons.foreach_set("use_smooth", [True] * len(me.polygons))
+        me.normals_split_custom_set_from_vertices([tuple(n) for n in mesh["normals"]])
+    me.update()
+    obj = bpy.data.objects.new(mesh["name"], me)
+    obj.cycles.shadow_terminator_offset = 0.0
+    obj.cycles.shadow_terminator_geometry_offset = 0.0
+    return obj
+
+
+def look_rotation(forward, up=None):
+    """A rotation whose -Z is `forward` (and +Y `up`, when given)."""
+    f = Vector(forward).normalized()
+    if up is None:
+        return f.to_track_quat("-Z", "Y").to_matrix().to_4x4()
+    u = Vector(up).normalized()
+    r = f.cross(u).normalized()
+    u = r.cross(f)
+    m = Matrix.Identity(4)
+    for i in range(3):
+        m[i][0], m[i][1], m[i][2] = r[i], u[i], -f[i]
+    return m
+
+
+def build(scene, coll, tmp):
+    mats = {}
+    for mesh in scene["meshes"]:
+        k = mesh["material"]
+        if k not in mats:
+            mats[k] = make_material(scene["materials"][k], k, scene, tmp)
+        coll.objects.link(make_mesh(mesh, mats[k], scene["materials"][k]))
+    for i, light in enumerate(scene["lights"]):
+        kind = {"point": "POINT", "spot": "SPOT", "directional": "SUN"}[light["kind"]]
+        data = bpy.data.lights.new("light%d" % i, kind)
+        value = [4.0 * math.pi * v for v in light["intensity"]] if kind != "SUN" else light["intensity"]
+        peak = max(value)
+        data.color = [v / peak for v in value] if peak > 0 else (1.0, 1.0, 1.0)
+        data.energy = peak
+        if kind == "SUN":
+            data.angle = 0.0
+        else:
+            data.shadow_soft_size = 0.0
+            if hasattr(data, "use_soft_falloff"):
+                data.use_soft_falloff = False
+        if kind == "SPOT":
+            # Blender's blend is a smoothstep over the cone's edge, glTF's a quadratic: close, not equal.
+            data.spot_size = 2.0 * light["outer_cone"]
+            data.spot_blend = (light["outer_cone"] - light["inner_cone"]) / light["outer_cone"]
+        obj = bpy.data.objects.new("light%d" % i, data)
+        obj.matrix_world = Matrix.Translation(light["position"]) @ look_rotation(light["direction"])
+        coll.objects.link(obj)
+    c = scene["camera"]
+    cam = bpy.data.cameras.new("camera")
+    cam.sensor_fit = "VERTICAL"
+    cam.sensor_height = 24.0
+    cam.lens = 12.0 / math.tan(0.5 * c["yfov"])
+    cam.clip_start = 1e-4
+    cam.clip_end = 1e6
+    obj = bpy.data.objects.new("camera", cam)
+    obj.matrix_world = Matrix.Translation(c["position"]) @ look_rotation(c["forward"], c["up"])
+    coll.objects.link(obj)
+    return obj
+
+
+def main():
+    a = parse_args()
+    t0 = time.perf_counter()
+    scene = convert.load(a.scene)
+    for w in scene["warnings"]:
+        print("cycles_peer: warning:", w, file=sys.stderr)
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    s = bpy.context.scene
+    tmp = tempfile.mkdtemp(prefix="cycles-peer-")
+    s.camera = build(scene, s.collection, tmp)
+    world = bpy.data.worlds.new("black")
+    world.use_nodes = True
+    world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.0
+    s.world = world
+    s.render.engine = "CYCLES"
+    cy = s.cycles
+    cy.device = "CPU"
+    cy.samples = a.spp if a.spp > 0 else 1 << 24
+    cy.time_limit = a.time
+    cy.use_adaptive_sampling = False
+    cy.seed = a.seed
+    cy.use_animated_seed = False
+    cy.use_denoising = False
+    for k in ("max_bounces", "diffuse_bounces", "glossy_bounces", "transmission_bounces", "volume_bounces",
+              "transparent_max_bounces"):
+        setattr(cy, k, 1024)
+    cy.sample_clamp_direct = 0.0
+    cy.sample_clamp_indirect = 0.0
+    cy.light_sampling_threshold = 0.0
+    cy.blur_glossy = 0.0
+    cy.caustics_reflective = True
+    cy.caustics_refractive = True
+    cy.pixel_filter_type = "BOX"
+    cy.filter_width = 1.0
+    cy.use_light_tree = True
+    cy.use_guiding = a.guiding
+    if a.guiding:
+        cy.use_surface_guiding = True
+        cy.use_volume_guiding = False
+    s.render.film_transparent = False
+    s.view_settings.view_transform = "Standard"
+    s.view_settings.look = "None"
+    s.render.resolution_x = a.width
+    s.render.resolution_y = a.height
+    s.render.resolution_percentage = 100
+    s.render.use_compositing = False
+    s.render.use_sequencer = False
+    s.render.threads_mode = "FIXED"
+    s.render.threads = a.threads
+    st = s.render.image_settings
+    st.file_format = "OPEN_EXR"
+    st.color_depth = "32"
+    st.color_mode = "RGBA"
+    st.exr_codec = "ZIP"
+    s.render.filepath = os.path.abspath(a.out + ".exr")
+    s.render.use_file_extension = False
+    stats = []
+    bpy.app.handlers.render_stats.append(lambda text, *_: stats.append(text))
+    t1 = time.perf_counter()
+    bpy.ops.render.render(write_still=True)
+    t2 = time.perf_counter()
+    # The progress lines name the samples done ("Sample 33/16777216"; the last one says 0).
+    done = [int(m.group(1)) for m in (re.search(r"Sample (\d+)/\d+", t) for t in stats) if m]
+    samples = max(done) if done else None
+    # Cycles' own times are in the EXR header (cycles.<layer>.render_time: sampling). Read in a
+    # process without bpy: with bpy loaded, the OpenEXR module sees none of the custom attributes.
+    import subprocess
+    reported = None
+    probe = ("import OpenEXR, json, sys\nwith OpenEXR.File(sys.argv[1]) as f:\n"
+             "    print(json.dumps({k: str(v) for k, v in f.header().items() if k.startswith('cycles.')}))")
+    try:
+        header = json.loads(subprocess.run([sys.executable, "-c", probe, a.out + ".exr"], check=True,
+                                           capture_output=True, text=True).stdout)
+        for key, v in header.items():
+            m = re.match(r"(?:(\d+):)?(\d+):(\d+(?:\.\d+)?)$", v)
+            if key.endswith(".render_time") and m:
+                reported = int(m.group(1) or 0) * 3600 + int(m.group(2)) * 60 + float(m.group(3))
+    except (subprocess.CalledProcessError, ValueError) as e:
+        print("cycles_peer: EXR header not read:", e, file=sys.stderr)
+    render = reported if reported is not None else t2 - t1
+    result = {"renderer": "Cycles " + bpy.app.version_string, "guiding": a.guiding, "spp": samples,
+              "render_seconds": render, "render_seconds_source": "cycles" if reported is not None else "wall",
+              "setup_seconds": (t1 - t0) + max(0.0, (t2 - t1) - render), "wall_seconds": t2 - t0,
+              "threads": a.threads, "seed": a.seed, "last_stats": stats[-1] if stats else ""}
+    with open(a.out + ".json", "w") as f:
+        json.dump(result, f, indent=1)
+    print("cycles_peer:", json.dumps(result))
+
+
+main()

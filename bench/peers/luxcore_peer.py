@@ -1,0 +1,277 @@
+"""Renders a glTF scene with LuxCoreRender 2.11 (PyPI pyluxcore) under the conventions of
+bench/peers/convert.py, for the peer harness (issue 29). Runs in the peers' venv:
+
+  python bench/peers/luxcore_peer.py SCENE OUT_PREFIX --width W --height H [--time S | --spp N]
+                                     [--threads T] [--seed K] [--photongi] [--light-strategy S]
+                                     [--mesh-dls enabled|disabled|auto] [--mesh-lights dls-only|mis]
+
+Writes OUT_PREFIX.exr (linear RGB float) and OUT_PREFIX.json: passes (samples per pixel) reached,
+the rendering time (from the first pass to the stop, the budget of --time), the set-up time (scene
+parse, BVH, the DLS and PhotonGI caches: the wall time before the first pass), wall time.
+
+PATHCPU, Sobol sampler, 1024 bounces of every kind (Russian roulette from depth 3, LuxCore's
+default), no clamping, a 1-pixel box filter (LuxCore's filter width is a radius: 0.5), the light
+strategy DLS_CACHE (LuxCore's choice for many lights); mesh emitters with direct light sampling
+ENABLED (--mesh-dls) and, after the first bounce, reached by light sampling only (--mesh-lights
+dls-only: invisible to indirect rays, so the light samples carry them alone, unweighted; LuxCore
+2.11's MIS over-counts mesh lights under Russian roulette; on the Cornell box both agree with the
+reference's mean, -0.09 % and -0.06 % at 160x90, 15 s); with --photongi the PhotonGI indirect cache
+(LuxCore's defaults otherwise).
+The scene: matte materials of kd (times the base-colour texture, sRGB, if any), emission Le with
+gain 1 and no normalisation (LuxCore emits from the front face only: a double-sided emitter gets a
+second, flipped copy 1e-5 of the scene's size behind it), point lights of gain 4 pi I
+(LuxCore's point light radiates gain / 4 pi W/sr), spot lights likewise with LuxCore's own cone
+falloff (close to glTF's, not equal), the sun as a `sharpdistant` light of the file's irradiance,
+the camera from the file (LuxCore's fieldofview spans the longer image side).
+
+LuxCore's CPU engines never need OpenCL, and pyluxcore's bundled allocator crashes when LuxCore opens
+PoCL: OCL_ICD_VENDORS is pointed at an empty folder before pyluxcore loads.
+"""
+import argparse
+import json
+import math
+import os
+import struct
+import sys
+import tempfile
+import time
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import convert  # noqa: E402
+
+_empty_icd = tempfile.mkdtemp(prefix="no-ocl-vendors-")
+os.environ["OCL_ICD_VENDORS"] = _empty_icd
+import numpy as np  # noqa: E402
+import OpenEXR  # noqa: E402  (before pyluxcore: its malloc proxy breaks a later import)
+import pyluxcore  # noqa: E402
+
+
+def parse_args():
+    p = argparse.ArgumentParser()
+    p.add_argument("scene")
+    p.add_argument("out")
+    p.add_argument("--width", type=int, required=True)
+    p.add_argument("--height", type=int, required=True)
+    p.add_argument("--time", type=float, default=0.0)
+    p.add_argument("--spp", type=int, default=0)
+    p.add_argument("--threads", type=int, default=1)
+    p.add_argument("--seed", type=int, default=1)
+    p.add_argument("--photongi", action="store_true")
+    p.add_argument("--light-strategy", default="DLS_CACHE")
+    p.add_argument("--mesh-dls", default="enabled", choices=["enabled", "disabled", "auto"])
+    p.add_argument("--mesh-lights", default="dls-only", choices=["dls-only", "mis"])
+    a = p.parse_args()
+    if (a.time > 0) == (a.spp > 0):
+        p.error("give exactly one of --time and --spp")
+    return a
+
+
+def write_ply(path, positions, triangles, normals=None, uvs=None):
+    pos = np.asarray(positions, dtype=np.float32).reshape(-1, 3)
+    cols = [pos]
+    props = ["x", "y", "z"]
+    if normals is not None:
+        cols.append(np.asarray(normals, dtype=np.float32).reshape(-1, 3))
+        props += ["nx", "ny", "nz"]
+    if uvs is not None:
+        uv = np.asarray(uvs, dtype=np.float32).reshape(-1, 2).copy()
+        uv[:, 1] = 1.0 - uv[:, 1]  # glTF's v runs down the image, LuxCore's up
+        cols.append(uv)
+        props += ["s", "t"]
+    verts = np.hstack(cols).astype("<f4")
+    tris = np.asarray(triangles, dtype="<i4").reshape(-1, 3)
+    faces = np.zeros(len(tris), dtype=[("n", "u1"), ("i", "<i4", (3,))])
+    faces["n"] = 3
+    faces["i"] = tris
+    with open(path, "wb") as f:
+        head = ["ply", "format binary_little_endian 1.0", "element vertex %d" % len(verts)]
+        head += ["property float %s" % p for p in props]
+        head += ["element face %d" % len(tris), "property list uchar int vertex_indices", "end_header"]
+        f.write(("\n".join(head) + "\n").encode("ascii"))
+        f.write(verts.tobytes())
+        f.write(faces.tobytes())
+
+
+def vec(v):
+    return " ".join("%.9g" % x for x in v)
+
+
+def screen_window(width, height):
+    """LuxCore's own screen window (projective.cpp: the longer side spans [-1, 1]), moved by one
+    pixel along -y: with the automatic window, LuxCore's film (first row at the bottom) comes out one
+    row lower than the view that glTF, bundlepath and Cycles share (measured on the Cornell box at
+    128x128: relMSE 0.94 against the reference before, 0.0018 after, the light's edge rows moved
+    by one; the window moved the other way gives 8.3)."""
+    frame = width / height
+    x, y = (frame, 1.0) if frame < 1.0 else (1.0, 1.0 / frame)
+    pixel = 2.0 / max(width, height)
+    return [-x, x, -y - pixel, y - pixel]
+
+
+def scene_props(scene, a, tmp):
+    lines = []
+    c = scene["camera"]
+    aspect = a.width / a.height
+    fov = 2.0 * math.degrees(math.atan(math.tan(0.5 * c["yfov"]) * max(aspect, 1.0)))
+    target = [p + f for p, f in zip(c["position"], c["forward"])]
+    lines += ["scene.camera.type = perspective", "scene.camera.lookat.orig = " + vec(c["position"]),
+              "scene.camera.lookat.target = " + vec(target), "scene.camera.up = " + vec(c["up"]),
+              "scene.camera.fieldofview = %.9g" % fov, "scene.camera.cliphither = 1e-4",
+              "scene.camera.screenwindow = %s" % vec(screen_window(a.width, a.height)),
+              "scene.camera.clipyon = 1e30"]
+    lo = [min(p[k] for m in scene["meshes"] for p in m["positions"]) for k in range(3)]
+    hi = [max(p[k] for m in scene["meshes"] for p in m["positions"]) for k in range(3)]
+    size = math.sqrt(sum((h - l) ** 2 for h, l in zip(hi, lo)))
+    for k, m in enumerate(scene["materials"]):
+        name = "m%d" % k
+        lines.append("scene.materials.%s.type = matte" % name)
+        t = m["texture"]
+        if t is not None:
+            tex = scene["textures"][t["texture"]]
+            path = convert.write_texture(scene, t["texture"], tmp)
+            wrap = {33071: "clamp", 33648: "repeat"}.get(tex["wrap_s"], "repeat")  # LuxCore has no mirror
+            lines += ["scene.textures.t%d.type = imagemap" % k, 'scene.textures.t%d.file = "%s"' % (k, path),
+                      "scene.textures.t%d.gamma = 2.2" % k, "scene.textures.t%d.wrap = %s" % (k, wrap),
+                      "scene.textures.t%d.filter = %s" % (k, "nearest" if tex["nearest"] else "linear"),
+                      "scene.textures.tk%d.type = scale" % k, "scene.textures.tk%d.texture1 = t%d" % (k, k),
+                      "scene.textures.tk%d.texture2 = %s" % (k, vec(t["factor"])),
+                      "scene.materials.%s.kd = tk%d" % (name, k)]
+        else:
+            lines.append("scene.materials.%s.kd = %s" % (name, vec(m["kd"])))
+        if max(m["emission"]) > 0.0:
+            lines += ["scene.materials.%s.emission = %s" % (name, vec(m["emission"])),
+                      "scene.materials.%s.emission.gain = 1 1 1" % name,
+                      "scene.materials.%s.emission.gain.normalizebycolor = 0" % name,
+                      "scene.materials.%s.emission.power = 0" % name,
+                      "scene.materials.%s.emission.efficency = 0" % name,
+                      "scene.materials.%s.emission.directlightsampling.type = %s" % (name, a.mesh_dls.upper())]
+            if a.mesh_lights == "dls-only":  # after a bounce, reached by light sampling alone
+                lines += ["scene.materials.%s.visibility.indirect.%s.enable = 0" % (name, e)
+                          for e in ("diffuse", "glossy", "specular")]
+    for i, mesh in enumerate(scene["meshes"]):
+        m = scene["materials"][mesh["material"]]
+        copies = [("s%d" % i, mesh["positions"], mesh["triangles"], mesh["normals"])]
+        if max(m["emission"]) > 0.0 and m["double_sided"]:
+            # LuxCore's area lights emit from the front only: the back side is a flipped copy just behind.
+            pos = [list(p) for p in mesh["positions"]]
+            shift = [[0.0, 0.0, 0.0] for _ in pos]
+            for i0, i1, i2 in mesh["triangles"]:
+                e = convert.cross(convert.sub(pos[i1], pos[i0]), convert.sub(pos[i2], pos[i0]))
+                for v in (i0, i1, i2):
+                    shift[v] = [s + x for s, x in zip(shift[v], e)]
+            back = []
+            for p, s in zip(pos, shift):
+                n = math.sqrt(convert.dot(s, s)) or 1.0
+                back.append([x - 1e-5 * size * y / n for x, y in zip(p, s)])
+            flipped = [(i0, i2, i1) for i0, i1, i2 in mesh["triangles"]]
+            normals = None if mesh["normals"] is None else [[-x for x in n] for n in mesh["normals"]]
+            copies.append(("s%db" % i, back, flipped, normals))
+        for shape, positions, tris, normals in copies:
+            path = os.path.join(tmp, shape + ".ply")
+            write_ply(path, positions, tris, normals, mesh["uvs"])
+            lines += ["scene.shapes.%s.type = mesh" % shape, 'scene.shapes.%s.ply = "%s"' % (shape, path),
+                      "scene.objects.o%s.shape = %s" % (shape, shape),
+                      "scene.objects.o%s.material = m%d" % (shape, mesh["material"])]
+    for i, light in enumerate(scene["lights"]):
+        name = "scene.lights.l%d" % i
+        if light["kind"] == "directional":
+            lines += [name + ".type = sharpdistant", name + ".direction = " + vec(light["direction"]),
+                      name + ".color = " + vec(light["intensity"]), name + ".gain = 1 1 1"]
+            continue
+        lines += [name + ".type = " + light["kind"], name + ".position = " + vec(light["position"]),
+                  name + ".color = " + vec([4.0 * math.pi * v for v in light["intensity"]]),
+                  name + ".gain = 1 1 1", name + ".power = 0", name + ".efficency = 0"]
+        if light["kind"] == "spot":
+            target = [p + d for p, d in zip(light["position"], light["direction"])]
+            lines += [name + ".target = " + vec(target),
+                      name + ".coneangle = %.9g" % math.degrees(light["outer_cone"]),
+                      name + ".conedeltaangle = %.9g" % math.degrees(light["outer_cone"] - light["inner_cone"])]
+    return "\n".join(lines) + "\n"
+
+
+def config_props(a):
+    lines = ["renderengine.type = PATHCPU", "sampler.type = SOBOL", "renderengine.seed = %d" % a.seed,
+             "native.threads.count = %d" % a.threads,
+             "path.pathdepth.total = 1024", "path.pathdepth.diffuse = 1024", "path.pathdepth.glossy = 1024",
+             "path.pathdepth.specular = 1024", "path.clamping.variance.maxvalue = 0",
+             "path.forceblackbackground.enable = 0",
+             "film.width = %d" % a.width, "film.height = %d" % a.height,
+             "film.filter.type = BOX", "film.filter.width = 0.5",
+             "film.imagepipelines.0.0.type = NOP",
+             "lightstrategy.type = %s" % a.light_strategy,
+             "batch.haltthreshold = -1", "batch.haltnoisethreshold = -1"]
+    if a.spp > 0:
+        lines.append("batch.haltspp = %d" % a.spp)  # --time: main() stops the session itself
+    if a.photongi:
+        lines += ["path.photongi.sampler.type = METROPOLIS", "path.photongi.indirect.enabled = 1",
+                  "path.photongi.caustic.enabled = 0"]
+    return "\n".join(lines) + "\n"
+
+
+def main():
+    a = parse_args()
+    t0 = time.perf_counter()
+    scene = convert.load(a.scene)
+    for w in scene["warnings"]:
+        print("luxcore_peer: warning:", w, file=sys.stderr)
+    tmp = tempfile.mkdtemp(prefix="luxcore-peer-")
+    logs = []
+    pyluxcore.Init(lambda msg: logs.append(msg))
+    props = pyluxcore.Properties()
+    props.SetFromString(scene_props(scene, a, tmp))
+    lux_scene = pyluxcore.Scene()
+    lux_scene.Parse(props)
+    cfg_props = pyluxcore.Properties()
+    cfg_props.SetFromString(config_props(a))
+    config = pyluxcore.RenderConfig(cfg_props, lux_scene)
+    session = pyluxcore.RenderSession(config)
+    session.Start()
+    # The clock of the budget starts at the first pass: LuxCore builds the DLS and PhotonGI caches in
+    # its render threads after Start(), and counts them in its own time (and in batch.halttime, which
+    # a PhotonGI build then uses up before the first sample). So the budget is kept here: set-up is
+    # the wall time until the first pass is seen (polled every 20 ms), rendering the time from there
+    # to the stop plus the first pass's share.
+    t_first = passes_first = None
+    while True:
+        time.sleep(0.02)
+        session.UpdateStats()
+        stats = session.GetStats()
+        passes = stats.Get("stats.renderengine.pass").GetInt()
+        now = time.perf_counter()
+        if t_first is None and passes > 0:
+            t_first, passes_first = now, passes
+        if a.time > 0 and t_first is not None and now - t_first >= a.time:
+            break
+        if session.HasDone():
+            break
+    session.Stop()
+    t2 = time.perf_counter()
+    session.UpdateStats()
+    passes = session.GetStats().Get("stats.renderengine.pass").GetInt()
+    elapsed = t2 - t_first
+    # the passes done before t_first took about elapsed / (passes - passes_first) each
+    render = elapsed * passes / max(passes - passes_first, 1)
+    t1 = t2 - render
+    film = session.GetFilm()
+    buf = np.zeros(a.width * a.height * 3, dtype=np.float32)
+    film.GetOutputFloat(pyluxcore.FilmOutputType.RGB, buf)
+    img = np.flipud(buf.reshape(a.height, a.width, 3))  # LuxCore's first row is the bottom one
+    with OpenEXR.File({"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage},
+                      {"RGB": np.ascontiguousarray(img)}) as f:
+        f.write(a.out + ".exr")
+    result = {"renderer": "LuxCore " + pyluxcore.Version(), "photongi": a.photongi,
+              "light_strategy": a.light_strategy, "mesh_dls": a.mesh_dls, "spp": passes,
+              "render_seconds": render, "setup_seconds": t1 - t0, "wall_seconds": t2 - t0,
+              "threads": a.threads, "seed": a.seed}
+    with open(a.out + ".json", "w") as f:
+        json.dump(result, f, indent=1)
+    with open(a.out + ".log", "w") as f:
+        f.write("\n".join(logs) + "\n")
+    print("luxcore_peer:", json.dumps(result), flush=True)
+    sys.stderr.flush()
+    # pyluxcore's log handler thread aborts the interpreter's finalisation ("GIL is released"): leave
+    # without it, everything written.
+    os._exit(0)
+
+
+main()
