@@ -66,6 +66,12 @@ void print_summary(const RenderOptions& o, const RenderResult& r) {
                  o.target_error > 0.0 ? (r.outcome.target_reached ? ": --target-error reached"
                                                                   : ": --target-error not reached")
                                       : "");
+  if (std::isfinite(r.expected_worst_region_error))
+    std::fprintf(stderr, "bundlepath: worst of %dx%d regions expected off by %.2f %% (mean luminance; --stats has each)%s\n",
+                 r.region_columns, r.region_rows, 100.0 * r.expected_worst_region_error,
+                 o.target_block_error > 0.0 ? (r.outcome.target_reached ? ": --target-block-error reached"
+                                                                        : ": --target-block-error not reached")
+                                            : "");
   if (r.outcome.nonfinite_samples)
     std::fprintf(stderr, "bundlepath: warning: %llu NaN/Inf samples were dropped\n",
                  static_cast<unsigned long long>(r.outcome.nonfinite_samples));

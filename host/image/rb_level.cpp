@@ -80,4 +80,28 @@ std::vector<std::array<double, 3>> RbLevel::factors() const {
   return out;
 }
 
+std::vector<double> RbLevel::pixel_factors() const {
+  const std::vector<std::array<double, 3>> target = factors();
+  if (grid_.count() == 1) return grid_.bilinear(target);  // one factor: the field is constant
+  // The centre values g_r whose bilinear field F scales each region's RB layer by its factor:
+  // Σ_{p∈r} F(p) rb(p) = s_r Σ_{p∈r} rb(p), per channel. g ← g · s_r / (the region's mean factor).
+  const std::vector<double> rb_sums = grid_.sums(rb_accum_.sum);
+  std::vector<std::array<double, 3>> centre = target;
+  std::vector<double> field = grid_.bilinear(centre);
+  for (int step = 0; step < kRbLevelFieldIterations; ++step) {
+    std::vector<double> scaled(field.size());
+    for (std::size_t i = 0; i < field.size(); ++i) scaled[i] = field[i] * rb_accum_.sum[i];
+    const std::vector<double> scaled_sums = grid_.sums(scaled);
+    for (std::size_t r = 0; r < centre.size(); ++r)
+      for (std::size_t c = 0; c < 3; ++c) {
+        const double own = rb_sums[r * 3 + c], now = scaled_sums[r * 3 + c];
+        if (own > 0.0 && now > 0.0)
+          centre[r][c] = std::clamp(centre[r][c] * target[r][c] * own / now, 1.0 / kRbLevelFactorLimit,
+                                    kRbLevelFactorLimit);
+      }
+    field = grid_.bilinear(centre);
+  }
+  return field;
+}
+
 }  // namespace bp

@@ -18,9 +18,12 @@
 // --rb-level regional (DESIGN.md §9, "Regional error") does the same per region of a grid
 // (image/regions.h): RB's chain moves the light of whole rooms together, so its error is regional
 // as well as global, and PT's estimate of RB's share in a region of thousands of pixels is still
-// good to a percent or so. Each region gets its own factor s_r; the image's RB layer is scaled by
-// the factors interpolated bilinearly between the regions' centres (a smooth field: RB's regional
-// error is smooth, and a step at a block edge would show). --rb-level corrected is the 1x1 grid.
+// good to a percent or so. Each region gets its own factor s_r; the image's RB layer is scaled by a
+// field interpolated bilinearly between values at the regions' centres (smooth: RB's regional error
+// is smooth, and a step at a block edge would show), those values chosen so that each region's mean
+// of the scaled layer is exactly s_r times its own (a fixed point, kRbLevelFieldIterations
+// multiplicative steps): each region's level is its inverse-variance mean, not a blend of its
+// neighbours'. --rb-level corrected is the 1x1 grid.
 #pragma once
 #include "image/accumulator.h"
 #include "image/error_estimate.h"
@@ -42,6 +45,10 @@ double rb_level_factor(double rb_level, double rb_variance, double pt_level, dou
 // nothing (a dark corner, RB's layer a few noisy pixels) the ratio M / M_RB could be large and
 // would multiply RB's per-pixel noise with it; there PT's level is off by more than RB's anyway.
 constexpr double kRbLevelFactorLimit = 4.0;
+// Steps of the field's fixed point: each multiplies a region's centre value by the ratio of its
+// factor to its mean under the field; 16 bring every region's mean within 1e-4 of its factor on
+// the houses (checked in tests/unit/test_rb_level.cpp).
+constexpr int kRbLevelFieldIterations = 16;
 
 class RbLevel {
  public:
@@ -68,7 +75,7 @@ class RbLevel {
   std::vector<std::array<double, 3>> pt_standard_errors() const { return standard_errors(*pt_); }
   // Per pixel and channel, the factor on RB's layer: the regions' factors, bilinear between their
   // centres (one factor per channel on a 1x1 grid).
-  std::vector<double> pixel_factors() const { return grid_.bilinear(factors()); }
+  std::vector<double> pixel_factors() const;
   std::uint64_t batches() const { return pt_->batches(); }
   State state() const { return State{pt_->state(), rb_->state()}; }
 

@@ -6,28 +6,35 @@
 
 namespace bp {
 
+int RegionalError::packed_width(const Track& t) const {
+  const std::size_t n = t.per_pixel ? std::size_t(grid_.width) * std::size_t(grid_.height) : grid_.count();
+  return int((n + 2) / 3);
+}
+
 RegionalError::RegionalError(RegionGrid grid, const Inputs& in, std::uint64_t first_round,
                              const std::optional<State>& resumed)
     : grid_(grid), in_(in) {
   for (std::size_t n : grid_.pixel_counts()) inv_pixels_.push_back(1.0 / double(n));
-  const std::size_t values = grid_.count() * 3;
-  const auto make = [&](std::optional<Track>& t) { t.emplace(Track{std::vector<double>(values, 0.0), {}, {}, {}}); };
-  if (in_.pt) make(w_);
-  if (in_.pt && in_.pt->keeps_raw()) make(u_);
-  if (in_.rb) make(r_);
-  if (u_ && r_) make(d_);
+  const auto make = [&](std::optional<Track>& t, bool per_pixel) {
+    t.emplace();
+    t->per_pixel = per_pixel;
+    t->sums.assign(std::size_t(packed_width(*t)) * 3, 0.0);
+  };
+  if (in_.pt) make(w_, true);
+  if (in_.pt && in_.pt->keeps_raw()) make(u_, true);
+  if (in_.rb) make(r_, false);
+  if (u_ && r_) make(d_, true);
   update_sums();
   std::size_t k = 0;
   for (Track* t : tracks()) {
     t->round_sums = RoundSums{&t->sums, 1.0};
-    const std::uint64_t batch_rounds = r_ && t == &*r_ ? in_.rb_batch_rounds : 1;
+    const std::uint64_t batch_rounds = t->per_pixel ? 1 : in_.rb_batch_rounds;
     if (!resumed) {
-      t->estimate.emplace(grid_.columns, grid_.rows, batch_rounds, 1, first_round,
-                          first_round ? &t->round_sums : nullptr);
+      t->estimate.emplace(packed_width(*t), 1, batch_rounds, 1, first_round, first_round ? &t->round_sums : nullptr);
     } else {
       if (k >= resumed->layers.size())
         throw std::runtime_error("the regional error's batch statistics hold fewer layers than this render");
-      t->estimate.emplace(BatchMeansErrorEstimate::from_state(resumed->layers[k], grid_.columns, grid_.rows));
+      t->estimate.emplace(BatchMeansErrorEstimate::from_state(resumed->layers[k], packed_width(*t), 1));
     }
     ++k;
   }
@@ -51,17 +58,25 @@ std::vector<const RegionalError::Track*> RegionalError::tracks() const {
 }
 
 void RegionalError::update_sums() {
-  // Each layer's region means of luminance per round: sums / rounds is the region's mean (channel 0).
-  const auto fill = [&](Track& t, const std::vector<double>& region_rgb, double per_round) {
-    for (std::size_t r = 0; r < grid_.count(); ++r)
-      t.sums[r * 3] = luminance(region_rgb[r * 3], region_rgb[r * 3 + 1], region_rgb[r * 3 + 2]) * per_round *
-                      inv_pixels_[r];
+  // Per pixel (PT's tracks) or region (RB's), the luminance of a round's estimate summed over rounds:
+  // a region's mean is Σ over its pixels / its pixels / rounds.
+  const std::size_t pixels = std::size_t(grid_.width) * std::size_t(grid_.height);
+  const auto per_pixel = [&](Track& t, const std::vector<double>& rgb, const std::vector<double>* minus, double per_round) {
+    for (std::size_t p = 0; p < pixels; ++p) {
+      double y = luminance(rgb[p * 3], rgb[p * 3 + 1], rgb[p * 3 + 2]);
+      if (minus) y -= luminance((*minus)[p * 3], (*minus)[p * 3 + 1], (*minus)[p * 3 + 2]);
+      t.sums[p] = y * per_round;
+    }
   };
-  if (w_) fill(*w_, grid_.sums(in_.pt->sum), 1.0 / in_.pt_samples);
-  if (u_) fill(*u_, grid_.sums(in_.pt->raw_sum), 1.0 / in_.pt_samples);
-  if (r_) fill(*r_, grid_.sums(in_.rb->sum), 1.0 / in_.rb_iterations);
-  if (d_)
-    for (std::size_t i = 0; i < d_->sums.size(); ++i) d_->sums[i] = u_->sums[i] - w_->sums[i];  // d = u − w
+  if (w_) per_pixel(*w_, in_.pt->sum, nullptr, 1.0 / in_.pt_samples);
+  if (u_) per_pixel(*u_, in_.pt->raw_sum, nullptr, 1.0 / in_.pt_samples);
+  if (d_) per_pixel(*d_, in_.pt->raw_sum, &in_.pt->sum, 1.0 / in_.pt_samples);  // d = u − w
+  if (r_) {
+    const std::vector<double> region_rgb = grid_.sums(in_.rb->sum);
+    for (std::size_t r = 0; r < grid_.count(); ++r)
+      r_->sums[r] = luminance(region_rgb[r * 3], region_rgb[r * 3 + 1], region_rgb[r * 3 + 2]) / in_.rb_iterations *
+                    inv_pixels_[r];
+  }
 }
 
 void RegionalError::add(std::uint64_t rounds) {
@@ -72,8 +87,7 @@ void RegionalError::add(std::uint64_t rounds) {
   if (r_ && r_->estimate->batches() > rb_batches_seen_) {  // a batch of RB closed: keep its region means
     rb_batches_seen_ = r_->estimate->batches();
     const double n = double(rounds - rb_open_round);
-    for (std::size_t b = 0; b < grid_.count(); ++b)
-      r_->batch_means.push_back((r_->sums[b * 3] - rb_before[b * 3]) / n);
+    for (std::size_t b = 0; b < grid_.count(); ++b) r_->batch_means.push_back((r_->sums[b] - rb_before[b]) / n);
   }
 }
 
@@ -91,20 +105,35 @@ void RegionalError::set_rb_factors(std::vector<double> pixel_factors, bool regio
   }
 }
 
-std::vector<double> RegionalError::means(const Track& t) const {
-  std::vector<double> out(grid_.count(), std::nan(""));
-  const std::uint64_t rounds = t.estimate->rounds();
-  if (rounds == 0) return out;
-  for (std::size_t b = 0; b < out.size(); ++b) out[b] = t.sums[b * 3] / double(rounds);
+// Per region, the sum over its pixels (per_pixel tracks) or the region's value, over the region's
+// pixels for a pixel track: values given per track slot.
+std::vector<double> RegionalError::region_totals(const Track& t, const std::vector<double>& values, bool squared_scale) const {
+  std::vector<double> out(grid_.count(), 0.0);
+  if (!t.per_pixel) {
+    for (std::size_t b = 0; b < out.size(); ++b) out[b] = values[b];
+    return out;
+  }
+  for (int y = 0; y < grid_.height; ++y)
+    for (int x = 0; x < grid_.width; ++x)
+      out[grid_.region_of(x, y)] += values[std::size_t(y) * std::size_t(grid_.width) + std::size_t(x)];
+  for (std::size_t b = 0; b < out.size(); ++b) out[b] *= squared_scale ? inv_pixels_[b] * inv_pixels_[b] : inv_pixels_[b];
   return out;
 }
 
-std::vector<double> RegionalError::variances(const Track& t) const {
-  std::vector<double> out(grid_.count(), std::nan(""));
-  const std::vector<double> var = t.estimate->variance_of_mean();
-  if (var.empty()) return out;
-  for (std::size_t b = 0; b < out.size(); ++b) out[b] = var[b * 3];
+std::vector<double> RegionalError::means(const Track& t) const {
+  const std::uint64_t rounds = t.estimate->rounds();
+  if (rounds == 0) return std::vector<double>(grid_.count(), std::nan(""));
+  std::vector<double> out = region_totals(t, t.sums, false);
+  for (double& v : out) v /= double(rounds);
   return out;
+}
+
+// A region's variance of its mean: RB's from its batch means; PT's, its independent pixels'
+// variances summed, Σ Var(Y_p) / n².
+std::vector<double> RegionalError::variances(const Track& t) const {
+  const std::vector<double> var = t.estimate->variance_of_mean();
+  if (var.empty()) return std::vector<double>(grid_.count(), std::nan(""));
+  return region_totals(t, var, true);
 }
 
 namespace {

@@ -3,11 +3,15 @@
 //
 // A pixel's standard error is not enough: RB's chain moves the light of whole rooms together, so
 // its pixels' errors are correlated and a wall's mean is far more wrong than its pixels' variances
-// summed as if independent say. Here each layer's region means are batched like the image's error
-// estimate (image/error_estimate.h), so a batch's region mean carries every correlation inside the
-// region: the variance of a region's mean is the spread of its batch means, with no assumption
-// about how pixels correlate. RB's batches must outlast its chain's correlation between iterations
-// (kRegionalBatchRbIterations: its lag-1 correlation of region means is measured in --stats).
+// summed as if independent say. So RB's region means are batched like the image's error estimate
+// (image/error_estimate.h): a batch's region mean carries every correlation inside the region, and
+// the variance of a region's mean is the spread of its batch means, with no assumption about how
+// pixels correlate. RB's batches must outlast its chain's correlation between iterations
+// (kRegionalBatchRbIterations: its lag-1 correlation of region means is measured in --stats). PT's
+// pixels are independent (each its own random numbers, weights from patch-level inputs), so PT's
+// share of a region's variance is its pixels' variances summed, Σ Var(Y_p) / n²: each pixel's from
+// the same batches, but summed over thousands of pixels the region's variance is known far better
+// than from the region's few batch means.
 //
 // What is tracked per region, as the mean luminance of a round's estimate: PT's weighted layer w,
 // PT's unweighted estimate u, RB's weighted layer r, and PT's estimate of RB's share d = u − w.
@@ -76,13 +80,17 @@ class RegionalError {
 
  private:
   struct Track {
-    std::vector<double> sums;  // per region (x 3 channels, luminance in the first), over rounds
+    bool per_pixel = false;    // PT's: per pixel; RB's: per region
+    std::vector<double> sums;  // luminance over rounds, per pixel or region, packed three a value slot
     RoundSums round_sums;
     std::optional<BatchMeansErrorEstimate> estimate;
     std::vector<double> batch_means;  // RB's: every closed batch's region means, for the correlation
   };
+  // The estimate's "image" that holds a track's luminances three to a pixel: width, height 1.
+  int packed_width(const Track& t) const;
   void update_sums();
   std::vector<double> variances(const Track& t) const;
+  std::vector<double> region_totals(const Track& t, const std::vector<double>& values, bool squared_scale) const;
   std::vector<double> means(const Track& t) const;
   std::vector<Track*> tracks();
   std::vector<const Track*> tracks() const;

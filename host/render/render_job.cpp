@@ -365,6 +365,9 @@ RenderResult RenderJob::run(RenderObserver& observer) {
   r.combined = s.shape.has_value();
   r.mrays_per_second = s.outcome.seconds > 0 ? double(s.outcome.rays) / s.outcome.seconds * 1e-6 : 0.0;
   r.estimated_rel_mse = s.estimated_rel_mse;
+  r.expected_worst_region_error = s.expected_worst_region_error;
+  r.region_columns = s.first_view().regional_error->grid().columns;
+  r.region_rows = s.first_view().regional_error->grid().rows;
   const ImageErrorEstimate& e = *s.first_view().error_estimate;
   for (std::size_t l = 0; l < e.layers().size(); ++l)
     r.error_layers.push_back({e.layer_name(l), e.layers()[l].batches(), e.layers()[l].batch_rounds()});

@@ -67,6 +67,10 @@ struct RenderResult {
   std::string exr_path, png_path;
   std::vector<std::pair<std::string, ErrorMetrics>> reference_metrics;  // per layer, with --reference
   double estimated_rel_mse = NAN;  // a walkthrough: its worst frame's
+  // The regional error (image/regional_error.h): the expected worst region's relative error and the
+  // grid (a walkthrough: its worst frame's); NaN before two batches.
+  double expected_worst_region_error = NAN;
+  int region_columns = 0, region_rows = 0;
   struct ErrorLayer {  // the estimate's batches per estimator's layer (image/error_estimate.h)
     std::string name;   // "pt", "rb"
     std::uint64_t batches = 0, batch_rounds = 0;

@@ -5,6 +5,7 @@
 #include "render/render_state.h"
 
 #include <array>
+#include <cmath>
 #include <filesystem>
 
 namespace bp {
@@ -17,10 +18,13 @@ ImageRGB sum_images(const ImageRGB& a, const ImageRGB& b, const std::vector<doub
   return out;
 }
 
-// Each pixel's region's relative standard error (image/regional_error.h), in every channel.
+// Each pixel's region's relative standard error (image/regional_error.h), in every channel; 0 where
+// it is not known (a black region, or fewer than two batches).
 ImageRGB region_error_image(const RegionalError& e) {
   const RegionGrid& g = e.grid();
-  const std::vector<double> relative = e.relative_standard_errors();
+  std::vector<double> relative = e.relative_standard_errors();
+  for (double& v : relative)
+    if (!std::isfinite(v)) v = 0.0;
   ImageRGB out(g.width, g.height);
   for (int y = 0; y < g.height; ++y)
     for (int x = 0; x < g.width; ++x)

@@ -242,16 +242,18 @@ TEST(ErrorEstimate, StatisticsSurviveACheckpoint) {
   std::ifstream in(dir + "/v1", std::ios::binary);
   std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   in.close();
-  // Format 03 has a presence byte where 04 has the count of layers (0 here: the same bytes), 02 ends
-  // before the RB level's two presence bytes, 01 also before the error estimate's.
-  for (const char version : {'3', '2', '1'}) {
+  // Format 04 ends before 05's count of regional layers (one byte, 0 here); 03 has a presence byte
+  // where 04 has the count of layers (0 here: the same bytes), 02 ends before the RB level's two
+  // presence bytes, 01 also before the error estimate's.
+  for (const char version : {'4', '3', '2', '1'}) {
     bytes[7] = version;
-    bytes.resize(bytes.size() - (version == '3' ? 0 : version == '2' ? 2 : 1));
+    bytes.resize(bytes.size() - (version == '4' ? 1 : version == '3' ? 0 : version == '2' ? 2 : 1));
     std::ofstream(dir + "/old", std::ios::binary) << bytes;
     Checkpoint old = read_checkpoint(dir + "/old");
     EXPECT_EQ(old.rounds, 39u);
     EXPECT_TRUE(old.error_estimate.empty());
     EXPECT_FALSE(old.rb_level);
+    EXPECT_FALSE(old.regional_error);
   }
 }
 

@@ -89,6 +89,54 @@ TEST(RbLevel, ResumedStateContinuesTheSameBatches) {
   }
 }
 
+// --rb-level regional: on a 4x3 grid of regions whose RB layer varies smoothly over the image and
+// whose PT estimate of the share differs per region, the field scales each region's RB layer by
+// exactly that region's factor (its mean of field · rb over its mean of rb), and is smooth: no
+// step between neighbouring pixels larger than the factors' own differences allow.
+TEST(RbLevel, RegionalFieldGivesEachRegionItsOwnFactor) {
+  constexpr int kWidth = 40, kHeight = 30;
+  const RegionGrid grid = RegionGrid::over(kWidth, kHeight, 4, 3);
+  Accumulator pt(kWidth, kHeight, true), rb(kWidth, kHeight, false);
+  RbLevel level(grid, 0, pt, 1, rb, 1, std::nullopt);
+  std::mt19937 rng(5);
+  std::normal_distribution<double> noise(0.0, 0.05);
+  for (std::uint64_t round = 1; round <= 8; ++round) {
+    for (int y = 0; y < kHeight; ++y)
+      for (int x = 0; x < kWidth; ++x) {
+        const std::size_t region = grid.region_of(x, y);
+        const double rb_value = 0.5 + 0.01 * x + 0.02 * y + noise(rng);
+        const double share = rb_value * (0.9 + 0.02 * double(region)) + 0.1 * noise(rng);  // PT's, per region
+        for (int c = 0; c < 3; ++c) {
+          const std::size_t i = (std::size_t(y) * kWidth + std::size_t(x)) * 3 + std::size_t(c);
+          rb.sum[i] += rb_value;
+          pt.sum[i] += 0.2;
+          pt.raw_sum[i] += 0.2 + share;
+        }
+      }
+    ++rb.samples_per_pixel;
+    ++pt.samples_per_pixel;
+    level.add(round);
+  }
+  const std::vector<std::array<double, 3>> factors = level.factors();
+  const std::vector<double> field = level.pixel_factors();
+  std::vector<double> scaled(field.size());
+  for (std::size_t i = 0; i < field.size(); ++i) scaled[i] = field[i] * rb.sum[i];
+  const std::vector<double> with = grid.sums(scaled), without = grid.sums(rb.sum);
+  double spread = 0.0;
+  for (std::size_t r = 0; r < grid.count(); ++r) {
+    spread = std::max(spread, std::fabs(factors[r][0] - factors[0][0]));
+    for (std::size_t c = 0; c < 3; ++c) EXPECT_NEAR(with[r * 3 + c] / without[r * 3 + c], factors[r][c], 1e-4) << r;
+  }
+  EXPECT_GT(spread, 0.05) << "the regions' factors should differ here";
+  double largest_step = 0.0;
+  for (int y = 0; y < kHeight; ++y)
+    for (int x = 1; x < kWidth; ++x) {
+      const std::size_t i = (std::size_t(y) * kWidth + std::size_t(x)) * 3;
+      largest_step = std::max(largest_step, std::fabs(field[i] - field[i - 3]));
+    }
+  EXPECT_LT(largest_step, 0.5 * spread) << "the field should be smooth, not one step per region edge";
+}
+
 // The estimator on simulated renders: RB's level per round is the truth plus a large noise shared by
 // every pixel, PT's estimate of it the truth plus a small one. Over many renders, the corrected level
 // M_RB · s must be centred on the truth (z-test of its mean) with a variance close to the
