@@ -9,6 +9,10 @@
 #   bash bench/peers/check_conventions.sh [--size 128x128] [--budget 30] [--ref-spp 4096]
 #                                         [--scene cornell-box] [--threads 1] [--results FILE.md]
 #
+# --scene takes what run.sh takes, and cornell-two-sided: the Cornell box with its light double-sided
+# and lowered 0.15 m (bench/peers/cornell_two_sided.py), for the emitters' back faces. The sun, a
+# point light and a texture: --scene scenes/blender-room.glb --size 128x96.
+#
 # At 128x128 and 30 s each, the means of the renders are within about 0.1 % of the reference
 # (Cycles about 450 spp, LuxCore about 300), far inside the 1 % bar. Needs bench/peers/setup.sh.
 set -euo pipefail
@@ -31,8 +35,14 @@ while [ $# -gt 0 ]; do
     *) echo "check_conventions.sh: unknown option $1" >&2; exit 2 ;;
   esac
 done
-results=${results:-$here/results/conventions-$scene-$(date -u +%Y-%m-%d).md}
+if [ "$scene" = cornell-two-sided ]; then  # the Cornell box with a double-sided light, lowered
+  mkdir -p "$here/../../bench-out/peers/scenes"
+  scene=$(cd "$here/../.." && pwd)/bench-out/peers/scenes/cornell-two-sided.gltf
+  python3 "$here/cornell_two_sided.py" "$scene"
+fi
+tag=$(basename "${scene%.*}")
+results=${results:-$here/results/conventions-$tag-$(date -u +%Y-%m-%d).md}
 exec bash "$here/run.sh" --scene "$scene" --sizes "$size" --budgets "$budget" --ref-spp "$ref_spp" \
   --threads "$threads" --renderers bp-pt,cycles,cycles-guiding,luxcore --max-mean-rel 0.01 \
-  --out "${PEERS_OUT:-$here/../../bench-out/peers/conventions-$scene}" --results "$results" \
+  --out "${PEERS_OUT:-$here/../../bench-out/peers/conventions-$tag}" --results "$results" \
   --label "conventions check (image mean within 1 %)"

@@ -13,7 +13,8 @@ denoiser, no clamping, no light threshold, no glossy filter, 1024 bounces of eve
 roulette stays), a 1-pixel box filter, black world, view transform Standard; with --guiding, path
 guiding on surfaces (Cycles' defaults for its training). The scene is built from convert.load():
 Diffuse BSDFs of kd (times the base-colour texture, sRGB, if any), emission Le from the front face
-only unless the material is double-sided (Geometry.Backfacing masks the back), point and spot lights
+only unless the material is double-sided (Geometry.Backfacing masks the back; emission_sampling
+FRONT or FRONT_BACK), point and spot lights
 of 4 pi I watts with radius 0, a sun of the file's irradiance with angle 0, the file's camera
 (vertical FOV, sensor fit vertical).
 """
@@ -97,8 +98,8 @@ def make_material(m, index, scene, tmp):
         tree.links.new(surface, add.inputs[0])
         tree.links.new(emit.outputs["Emission"], add.inputs[1])
         surface = add.outputs["Shader"]
-        if hasattr(mat, "emission_sampling"):
-            mat.emission_sampling = "BOTH" if m["double_sided"] else "FRONT"
+        # light-tree sampling of the emitting sides only (Cycles' default AUTO would guess them)
+        mat.cycles.emission_sampling = "FRONT_BACK" if m["double_sided"] else "FRONT"
     tree.links.new(surface, out.inputs["Surface"])
     return mat
 

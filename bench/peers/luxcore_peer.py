@@ -74,9 +74,9 @@ def write_ply(path, positions, triangles, normals=None, uvs=None):
         cols.append(np.asarray(normals, dtype=np.float32).reshape(-1, 3))
         props += ["nx", "ny", "nz"]
     if uvs is not None:
-        uv = np.asarray(uvs, dtype=np.float32).reshape(-1, 2).copy()
-        uv[:, 1] = 1.0 - uv[:, 1]  # glTF's v runs down the image, LuxCore's up
-        cols.append(uv)
+        # glTF's uv as they are: LuxCore's imagemap reads v down the image like glTF (flipping v
+        # here gave the Blender room's tiled floor relMSE 0.73 against the reference, 0.013 without)
+        cols.append(np.asarray(uvs, dtype=np.float32).reshape(-1, 2))
         props += ["s", "t"]
     verts = np.hstack(cols).astype("<f4")
     tris = np.asarray(triangles, dtype="<i4").reshape(-1, 3)
