@@ -13,9 +13,10 @@ PATHCPU, Sobol sampler, 1024 bounces of every kind (Russian roulette from depth 
 default), no clamping, a 1-pixel box filter (LuxCore's filter width is a radius: 0.5), the light
 strategy DLS_CACHE (LuxCore's choice for many lights); mesh emitters with direct light sampling
 ENABLED (--mesh-dls) and, after the first bounce, reached by light sampling only (--mesh-lights
-dls-only: invisible to indirect rays, so the light samples carry them alone, unweighted; LuxCore
-2.11's MIS over-counts mesh lights under Russian roulette; on the Cornell box both agree with the
-reference's mean, -0.09 % and -0.06 % at 160x90, 15 s); with --photongi the PhotonGI indirect cache
+dls-only: invisible to indirect rays, so the light samples carry them alone, unweighted; reported
+to be needed because LuxCore 2.11's MIS over-counts mesh lights under Russian roulette; on the
+Cornell box both agree with the reference's mean, -0.09 % and -0.06 % at 160x90, 15 s, and on the
+Lambert house, -0.04 % and +0.07 % at 128x72, 30 s); with --photongi the PhotonGI indirect cache
 (LuxCore's defaults otherwise).
 The scene: matte materials of kd (times the base-colour texture, sRGB, if any), emission Le with
 gain 1 and no normalisation (LuxCore emits from the front face only: a double-sided emitter gets a

@@ -20,6 +20,7 @@ NAMES = {
     "cycles-guiding": "Cycles 5.0, light tree + path guiding",
     "luxcore": "LuxCore 2.11 PATHCPU, DLS cache",
     "luxcore-photongi": "LuxCore 2.11 PATHCPU, DLS cache + PhotonGI indirect",
+    "luxcore-mis": "LuxCore 2.11 PATHCPU, DLS cache, mesh lights under MIS",
 }
 
 
