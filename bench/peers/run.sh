@@ -110,8 +110,10 @@ render_one() {  # RENDERER SIZE BUDGET PREFIX -> PREFIX.exr, PREFIX.json (sample
       local -a mode=()
       [ "$r" = bp-pt ] && mode=(--mode pt)
       [ "$r" = bp-rb ] && mode=(--mode rb)
+      local -a dev
+      mapfile -t dev < <(bench_device_args)
       nice -n "$nice_n" "${bp_env[@]}" "$BUNDLEPATH" render "$scene" "${mode[@]}" --width "$w" --height "$h" \
-        --time "$budget" --seed "$seed" --out "$prefix" --stats "$prefix.bp.json" $(bench_device_args) \
+        --time "$budget" --seed "$seed" --out "$prefix" --stats "$prefix.bp.json" "${dev[@]}" \
         > "$prefix.log" 2>&1 || rc=$?
       t1=$(date +%s.%N)
       [ $rc = 0 ] || { tail -5 "$prefix.log" >&2; return $rc; }
@@ -151,7 +153,9 @@ load_start=$(cut -d' ' -f1 /proc/loadavg)
 for size in $(bench_resolutions "$sizes"); do
   spp=$(bench_reference_spp "$ref_spp" "$size")
   echo "run.sh: references of $tag at $size ($spp spp, seeds 7 and 8) ..." >&2
+  # shellcheck disable=SC2016  # $1.. expand in the child shell
   ref=$(nice -n "$nice_n" bash -c 'source "$1/bench/lib.sh"; bench_reference "$2" "$3" "$4"' _ "$root" "$scene" "$spp" "$size")
+  # shellcheck disable=SC2016
   ref2=$(BENCH_REF_FLAGS="${BENCH_REF_FLAGS:+$BENCH_REF_FLAGS }--seed 8" nice -n "$nice_n" \
     bash -c 'source "$1/bench/lib.sh"; bench_reference "$2" "$3" "$4"' _ "$root" "$scene" "$spp" "$size")
   noise=$("$py" "$here/compare.py" "$ref2" "$ref")
