@@ -17,7 +17,7 @@ here=$(cd "$(dirname "$0")" && pwd)
 # shellcheck source=bench/lib.sh
 source "$here/lib.sh"
 scenes="rooms-lambert-100000" sizes="640x360" budgets="30" seeds="1 2 3 4" modes="combined pt"
-ref_spp=1024 regions=8 maps="" work=0 extra=()
+ref_spp=1024 regions=8 maps="" work=0 extra=() refs=()
 while [ $# -gt 0 ]; do
   case $1 in
     --scenes) scenes=$2; shift 2 ;;
@@ -42,9 +42,11 @@ echo "| scene | size | budget | mode | seed | work | relMSE | worst block | bloc
 echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|"
 for scene_name in $scenes; do
   scene=$(bench_scene "$scene_name")
+  label=$(basename "$scene_name"); label=${label%.gl*}  # a path's file name, without .gltf or .glb
   for size in $sizes; do
     mapfile -t wh < <(bench_size_args "$size")
     ref=$(bench_reference "$scene" "$(bench_reference_spp "$ref_spp" "$size")" "$size")
+    refs+=("$(basename "$ref" .exr)")
     for budget in $budgets; do
       for mode in $modes; do
         for seed in $seeds; do
@@ -56,18 +58,30 @@ for scene_name in $scenes; do
             elif [ -n "$it" ]; then budget_args=(--ratio "$spp/$it" --iterations "$it")
             else budget_args=(--spp "$spp"); fi
           fi
-          stats=$tmp/$scene_name-$size-$budget-$mode-$seed.json
+          stats=$tmp/$label-$size-$budget-$mode-$seed.json
           bench_render "$scene" "${wh[@]}" --mode "$mode" "${budget_args[@]}" --seed "$seed" --regions "$regions" \
             --reference "$ref" --out "$tmp/img" --stats "$stats" "${extra[@]}" 2>/dev/null
-          python3 - "$stats" "$scene_name" "$size" "$budget" "$mode" "$seed" "$maps" <<'PY'
-import json, math, sys
+          python3 - "$stats" "$label" "$size" "$budget" "$mode" "$seed" "$maps" "${ref%.exr}.json" <<'PY'
+import json, math, os, sys
 from statistics import NormalDist
-path, scene, size, budget, mode, seed, maps = sys.argv[1:8]
+path, scene, size, budget, mode, seed, maps, ref_stats = sys.argv[1:9]
 s = json.load(open(path))
 reg = s["regional_error"]
 ref = reg["reference"]
 errors = [e for e in ref["relative_error"] if e is not None]
-zs = [abs(z) for z in ref["z"] if z is not None]
+# z against the render's own regional error and, where the reference's stats have theirs on the
+# same grid, the reference's too: z = (Y - R) / sqrt(σ² + σ_R²).
+ref_se = None
+if os.path.exists(ref_stats):
+    r = json.load(open(ref_stats)).get("regional_error")
+    if r and r["regions"] == reg["regions"]:
+        ref_se = r["relative_stderr"]
+zs = []
+for b, (e, own) in enumerate(zip(ref["relative_error"], reg["relative_stderr"])):
+    if e is None or own is None or own <= 0:
+        continue
+    var = own * own + (ref_se[b] ** 2 if ref_se and ref_se[b] is not None else 0.0)
+    zs.append(abs(e) / math.sqrt(var))
 blocks = len(errors)
 worst = max(abs(e) for e in errors)
 rms = math.sqrt(sum(e * e for e in errors) / blocks)
@@ -106,4 +120,4 @@ PY
   done
 done
 echo
-echo "(references: $ref_spp spp at 640x360 scaled by bench_reference_spp; $("$BUNDLEPATH" devices 2>/dev/null | head -1); $(date -u +%Y-%m-%d))"
+echo "(references: ${refs[*]}; $("$BUNDLEPATH" devices 2>/dev/null | head -1); $(date -u +%Y-%m-%d))"

@@ -44,11 +44,16 @@ int main(int argc, char** argv) {
     }
     const std::string command = args[0];
     std::vector<std::string> rest(args.begin() + 1, args.end());
-    for (const std::string& a : rest)
+    for (const std::string& a : rest) {
       if (a == "-h" || a == "--help") {
         std::fputs(command == "render" ? bp::render_help() : bp::main_help(), stdout);
         return 0;
       }
+      if (a == "--help-all") {
+        std::fputs(command == "render" ? bp::render_help_all() : bp::main_help(), stdout);
+        return 0;
+      }
+    }
     if (command == "devices") {
       if (!rest.empty()) throw bp::UsageError("devices takes no arguments");
       return bp::run_devices();

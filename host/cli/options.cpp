@@ -37,7 +37,8 @@ const char* main_help() {
   return R"(bundlepath - global illumination on any OpenCL device
 
 usage:
-  bundlepath render SCENE.gltf|SCENE.glb [options]   render an image (see `bundlepath render --help`)
+  bundlepath render SCENE.gltf|SCENE.glb [options]   render an image (`bundlepath render --help`,
+                                                     every option: `bundlepath render --help-all`)
   bundlepath devices                                 list OpenCL platforms and devices with their index
   bundlepath compare IMAGE.exr REFERENCE.exr         relMSE, RMSE and bias of IMAGE against REFERENCE
              [--layer NAME] [--json]
@@ -48,156 +49,125 @@ exit codes: 0 done; 1 device or I/O failure; 2 bad command line or no OpenCL pla
 )";
 }
 
-const char* render_help() {
-  return R"(usage: bundlepath render SCENE [options]
+namespace {
 
-Renders SCENE (glTF 2.0: .gltf or .glb) and writes PREFIX.exr (linear float32) and PREFIX.png
-(tone-mapped sRGB). Ctrl-C stops after the current batch and writes what is done (exit 130).
-Under `mpirun -np N` (a build with MPI) the N ranks render one image: each its share of every
-batch, rank 0 sums them and alone writes the files (README, "Several ranks: MPI").
+// `render --help` is the head and the everyday options; `--help-all` adds the estimator's tuning
+// knobs. docs/guide.md lists every option again (tests/e2e/test_docs.cpp keeps them in step).
+constexpr const char* kRenderHelpHead = R"(usage: bundlepath render SCENE [options]
 
-options (defaults in brackets):
-  --out PREFIX        output path without extension            [out/<scene name>]
-  --width W           image width in pixels, 1..16384          [512]
-  --height H          image height in pixels, 1..16384         [width / camera aspect ratio]
-  --spp N             samples per pixel (pt, combined)         [pt: 64, unless --time is given]
-  --iterations N      ray-bundle iterations (rb, combined)     [rb: 1000, unless --time is given]
-                      combined: give --spp, --iterations or --time; the other count follows
-                      from --ratio   [combined: as long as 64 PT spp alone take (auto), else 64 spp]
-  --time SECONDS      stop after this much rendering time; with --spp, whichever comes first.
-                      A render stops between batches, at the batch end nearest SECONDS
-  --target-error X    render until the estimated relMSE (below) is at most X, a number > 0;
-                      with --time as a cap, whichever comes first; not with --spp or
-                      --iterations. Checked after each batch once the estimate has 7
-                      degrees of freedom (8 batches of one estimator); the progress
-                      bar's ETA is the time to X from the estimate's 1/t decay
-  --error-batch N     RB iterations per batch of the error estimate (rb, combined)  [64]
-  --error-levels L    also estimate from batches 2, 4, ... 2^(L-1) times longer, into --stats
-                      (the check that the batches outlast RB's correlation)   [1]
-  --seed K            random seed; same seed, same device -> bit-identical image   [1]
-  --device SPEC       device index or name substring (see `bundlepath devices`), or several,
-                      comma-separated, or all: combined runs RB on the first and PT on the
-                      others at the same time; pt splits its samples over all  [first GPU, else CPU]
-  --mode MODE         pt (path tracing), rb (global ray-bundle iteration), or combined
-                      (both, weighted per path so the sum stays unbiased; with
-                      --ratio auto, the path tracer alone where RB cannot pay)  [combined]
-  --weights W         combined: product (exact per-vertex weights), paper (the paper's
-                      eq. 9/10 weights, one P per patch), none (plain sum: double counts)  [product]
-  --beta B            product weights: the per-vertex factor of w_RB = prod beta, from PT's
-                      density P of the vertex's direction: clamped, min(1, N2/(N1 P)), or
-                      balance, N2/(N2 + N1 P) (the paper's one-step weight)  [clamped]
-  --rb-level L        product weights: the level (mean over the pixels, per channel) of RB's
-                      share of the image: corrected (RB's layer scaled to the inverse-variance
-                      mean of its own level and PT's estimate of the same share, PT's
-                      unweighted less weighted image: removes RB's level noise, a ratio
-                      estimator, consistent) or own (the plain weighted sum)   [corrected]
-  --rb-light-rate R   combined with light sampling: the probability that a patch traces its
-                      shadow ray in an iteration, in (0, 1] (the weights count R·N2 samples)
-                                                                [min(1, pixels / patches)]
-  --rb-sun S          combined with light sampling: how RB's patches sample directional lights:
-                      chosen (only when their light sample chooses the sun, like any other
-                      light) or own (every patch that takes its light sample also takes one
-                      of each sun, every iteration: the weights then give RB more of the
-                      sun's light after the eye vertex, and PT less)            [chosen]
-  --eye-direct E      combined with light sampling: the eye vertex's direct light split with
-                      RB by the four techniques (shared; RB's share from a view-independent
-                      proxy of PT's density: smooth, but blurred to RB's patches), PT's alone
-                      (pt: unbiased per pixel, noisy at few samples), or auto: shared when
-                      the render gives each pixel fewer than 96 PT samples (from --spp,
-                      --iterations and --ratio, or for --time from the ratio probe's costs;
-                      under --ratio auto, at the c it picks where the light is PT's alone;
-                      --resume reuses the saved choice)                       [auto]
-  --ratio C           combined: PT samples per pixel per RB iteration, or auto   [auto]
-                      0: ray bundles alone (w_RB = 1; count with --iterations or --time)
-                      auto: a short timed probe after the kernels are built (about 2 % of
-                      --time, or of the estimated time of --spp / --iterations, at most
-                      1.5 s, and at least one RB iteration; not counted in --time, its
-                      samples are discarded) measures PT's cost per sample (on the same view
-                      at about 128x128 pixels, scaled) and RB's per iteration, and picks c,
-                      a power of 2, so that PT gets about 12 % of the time (65 % where
-                      the eye vertex's direct light is PT's alone: --eye-direct pt, or auto
-                      resolved to pt), and a round (N1 PT samples + N2 RB iterations) that
-                      fits in --time. Where one RB iteration costs more than a PT sample of
-                      the whole image (many more patches than pixels) it picks the path
-                      tracer alone (c = inf, printed; "inf" in --stats), unless --iterations
-                      is given (then PT gets at least 98 % of the time). --spp or --iterations
-                      then fixes the other count from that c. The chosen c is printed and in
-                      --stats; give it as --ratio for a reproducible image (inf: --mode pt).
-                      --resume reuses the saved c
-  --no-light-sampling turn light sampling off: emitters are then reached by BSDF sampling (pt)
-                      and bundles (rb) only, as in the paper. Light sampling (next-event
-                      estimation in PT, a shadow ray per patch in RB) acts in --mode pt and in
-                      --mode combined with product weights; --mode rb and --weights paper/none
-                      never sample lights. Point, spot and directional lights
-                      (KHR_lights_punctual) are reached by light sampling only
-  --light-selection S light sampling: how a light is chosen for a receiving patch: tree (a
-                      BVH over the lights bounding power, position and orientation; nearby,
-                      facing lights are chosen more often; suns and the environment by power,
-                      less often where the patch's 16 test rays do not reach them) or power (by
-                      power alone, the same for every receiver)                   [tree]
-  --kernels K         specialised (built with only the features the scene and options use:
-                      Phong lobe, light sampling) or generic (everything)  [specialised]
-  --layers all        also write the unweighted pt_raw and rb_raw layers
+Renders SCENE (glTF 2.0: .gltf or .glb) to PREFIX.exr (linear float32) and PREFIX.png (sRGB).
+Ctrl-C stops after the current batch and writes what is done (exit 130). Under `mpirun -np N`
+the N ranks render one image. The user guide: docs/guide.md. Defaults in brackets.
+
+options:
+  --out PREFIX        output path without extension                  [out/<scene name>]
+  --width W           image width in pixels, 1..16384                [512]
+  --height H          image height in pixels, 1..16384               [width / camera aspect]
+  --spp N             path-tracer samples per pixel (pt, combined)   [pt: 64]
+  --iterations N      ray-bundle iterations (rb, combined; combined: give --spp or
+                      --iterations, and --ratio fixes the other)                  [rb: 1000]
+  --time SECONDS      stop at the batch end nearest this much rendering time; with a count,
+                      whichever comes first [combined, no budget: as long as pt's 64 spp take]
+  --target-error X    render until the estimated relMSE is at most X (e.g. 0.001); --time
+                      caps it; not with --spp or --iterations
+  --target-block-error E  render until the worst region of the --regions grid is expected to be
+                      off by at most E (a relative error, e.g. 0.02); like --target-error
+  --mode MODE         pt (path tracing), rb (global ray-bundle iteration) or combined (both,
+                      weighted per path so the sum stays unbiased)                 [combined]
+  --ratio C           combined: PT samples per pixel per RB iteration (1/16, 4; 0: RB alone),
+                      or auto: timed on the scene and device, the choice printed      [auto]
+  --device SPEC       index or name substring (see `bundlepath devices`), a comma-separated list
+                      (combined: RB on the first, PT on the others), or all  [first GPU, else CPU]
+  --seed K            random seed: same seed, device and options, the same image bit for bit [1]
   --reference REF.exr report relMSE, RMSE and mean bias of every layer against REF
-  --contact-sheet F   write F.png: non-weighted PT, weighted PT, combined, non-weighted RB,
+  --stats FILE        write run statistics as JSON, with the estimated relMSE (noise only: it
+                      cannot see the ray bundles' discretisation bias)
+  --checkpoint FILE   save the render's state to FILE every --checkpoint-every seconds and at
+                      the end or on Ctrl-C
+  --resume FILE       continue the render saved in FILE (same scene and options); --spp and
+                      --iterations are totals, --time counts this run
+  --verbose           print the OpenCL compiler's messages when kernels are built from source
+  -h, --help          this text
+  --help-all          every option, with the estimator's tuning knobs
+
+outputs:
+  --layers all        also write the unweighted pt_raw and rb_raw layers
+  --contact-sheet F   write F.png: unweighted PT, weighted PT, combined, unweighted RB,
                       weighted RB, reference (implies --layers all)
-  --patch-size M      target patch edge in metres              [scene diagonal / 20]
-  --bins R            transillumination buffer R x R bins (rb) [an average patch covers 4 bins]
-  --warmup N          ray-bundle iterations before the image starts (rb)  [16]
-  --rb-directions D   rb: the iterations' directions: independent (each drawn on its own, as in
-                      the paper) or stratified (experimental: blocks of 64 iterations, four
-                      interleaved sequences that each visit the 16 cells of the direction square
-                      once; less level noise in short renders, but light paths of more than
-                      four bundle segments are biased, about -1 % on the house)  [independent]
-  --contact-depth F   rb: surfaces closer than F times the scene's bounding diameter along a
-                      bundle direction touch: they exchange nothing, and a patch's incoming
-                      light is the mean over its uncovered part; 0 turns it off   [0.001]
-  --environment R,G,B uniform environment radiance (W sr^-1 m^-2, linear RGB) that every ray
-                      leaving the scene sees: the background, and light from every open
-                      direction (PT: by BSDF sampling and light sampling; RB: where no patch is
-                      in front, and its patches' light samples)  [0,0,0]
-  --environment FILE.exr  the same from an equirectangular RGB(A) EXR (any argument ending in .exr
-                      or naming a file): +Y up, the image's centre column looking along -Z,
-                      nearest-texel lookup, light sampling by luminance x sin(theta); at most
-                      8192x4096 texels, finite and >= 0 (else exit 3)
-  --rb-shading S      eye estimate: gouraud (interpolated across patches) or flat  [gouraud]
-  --rb-eye-gather G   eye estimate of Lambert eye vertices: blocks (once per 16 iterations
-                      from per-patch sums, the same image to float rounding) or every
-                      (every pixel every iteration, for comparison; also what
-                      --weights paper does)   [blocks]
-  --stats FILE        write run statistics as JSON, with "estimated_rel_mse": the image's
-                      relMSE estimated without a reference from the spread of batch means
-                      (PT: batches of its rounds; RB: of --error-batch iterations, longer
-                      than its chain's correlation; combined: each layer from its own,
-                      their variances summed); the EXR
-                      gets a 'stderr' layer, each pixel's standard error. It sees noise
-                      only: RB's discretisation (patches, bins, Gouraud) is a bias no
-                      variance shows (rb, and its share of combined): about 0.0004
-                      relMSE on the Cornell box, 0.026 on the glossy one (README)
-  --checkpoint FILE   save the render's state to FILE every --checkpoint-every seconds [60]
-                      and when it ends or is interrupted
-  --resume FILE       continue the render saved in FILE (same scene and options). --spp and
-                      --iterations are totals, so the result equals an uninterrupted render;
-                      --time counts this run only
-  --camera C          the camera node to render from: its index among the scene's camera nodes
-                      (depth-first, from 0) or its node's (else camera's) name   [0]
+  --exposure STOPS    exposure of the PNG                                          [0]
+  --checkpoint-every S  seconds between the saves of --checkpoint                 [60]
+  --regions N         the N x N grid of the regional error estimate (--stats' regional_error,
+                      the EXR's region_error layer) and of --rb-level regional      [8]
+
+scene and light:
+  --environment R,G,B uniform environment radiance (W sr^-1 m^-2, linear RGB) around the
+                      scene: the background, and light from every open direction  [0,0,0]
+  --environment FILE.exr  the same from an equirectangular RGB(A) EXR: +Y up, the centre
+                      column along -Z; at most 8192x4096 texels, finite and >= 0 (else exit 3)
+  --patch-size M      ray bundles' target patch edge in metres      [scene diagonal / 20]
+  --no-light-sampling turn light sampling off (then point, spot and directional lights stay
+                      dark, and emitters are found by BSDF sampling and bundles alone)
+
+walkthroughs (frames PREFIX_0000.exr/.png, PREFIX_0001...; one device, one process):
+  --camera C          one camera node: its index among the scene's camera nodes (depth-first,
+                      from 0) or its node's (else camera's) name                   [0]
   --cameras all       a walkthrough of every camera node at its rest pose, in scene order
   --camera-path FILE  a walkthrough along FILE.json: [{"position": [x,y,z], "target": [x,y,z],
-                      "up": [x,y,z] (default [0,1,0]), "yfov": radians (default the scene's)}, ...]
-  --camera-animation  a walkthrough of --camera's glTF animation (translation and rotation
-                      channels, LINEAR or STEP), sampled at --fps from its first keyframe to
-                      its last; --cameras all renders animated cameras at their rest pose
-  --fps F             frames per second of --camera-animation and --video    [24]
+                      "up": [x,y,z] (default [0,1,0]), "yfov": radians}, ...]
+  --camera-animation  a walkthrough of --camera's glTF animation (LINEAR or STEP), at --fps
+  --fps F             frames per second of --camera-animation and --video          [24]
   --video FILE.mp4    also encode a walkthrough's PNGs with ffmpeg (must be on PATH)
-                      A walkthrough writes PREFIX_0000.exr/.png, PREFIX_0001... from one
-                      ray-bundle chain shared by all its views (each view its own eye gather
-                      and PT samples); --spp/--iterations/--time count the whole walk;
-                      checkpoints hold every view. One device; not with --reference or
-                      --contact-sheet
-  --exposure STOPS    exposure of the PNG                      [0]
-  --max-depth N       safety cap on path length                [65536]
-  -h, --help          this text
+
+other:
+  --kernels K         specialised (built with only the features the scene and options use)
+                      or generic (everything)                                [specialised]
+  --max-depth N       safety cap on path length                                [65536]
 )";
+
+constexpr const char* kRenderHelpTail = R"(
+The estimator's tuning knobs (--eye-direct, --weights, --beta, --rb-level, --bins, ...):
+bundlepath render --help-all
+)";
+
+constexpr const char* kRenderHelpTuning = R"(
+estimator tuning (the defaults are measured: docs/results.md):
+  --eye-direct E      combined with light sampling: the direct light at the first hit, shared
+                      with RB, PT's alone (pt), or auto: shared below 96 PT samples per pixel [auto]
+  --weights W         combined: product (exact per-vertex weights), paper (the paper's, one
+                      density per patch: biased) or none (plain sum: counts twice)  [product]
+  --beta B            product weights' per-vertex factor from PT's density P: clamped,
+                      min(1, N2/(N1 P)), or balance, N2/(N2 + N1 P) (the paper's)  [clamped]
+  --rb-level L        RB's share scaled to the inverse-variance mean of its own level and PT's
+                      estimate of it, per region (regional) or image (corrected), or own  [regional]
+  --rb-light-rate R   combined with light sampling: the probability that a patch traces its
+                      shadow ray in an iteration, in (0, 1]      [min(1, pixels / patches)]
+  --rb-sun S          combined with light sampling: RB's patches sample a sun when their light
+                      sample chooses it (chosen), or each sun every iteration (own)  [chosen]
+  --light-selection S lights chosen per patch by a light tree (tree) or by power alone [tree]
+  --bins R            ray-bundle buffer of R x R bins          [an average patch covers 4 bins]
+  --warmup N          ray-bundle iterations before the image starts                [16]
+  --rb-directions D   independent directions, or stratified (experimental: less level noise in
+                      short renders, about -1 % bias on long diffuse paths)  [independent]
+  --contact-depth F   surfaces closer than F times the scene's diameter along a bundle touch
+                      and exchange nothing; 0 turns it off                       [0.001]
+  --rb-shading S      RB's eye estimate: gouraud (interpolated across patches) or flat [gouraud]
+  --rb-eye-gather G   Lambert pixels gathered once per 16 iterations (blocks, the same image to
+                      float rounding) or every iteration (every)                  [blocks]
+  --error-batch N     RB iterations per batch of the error estimate                [64]
+  --error-levels L    also estimate from batches 2, 4, ... 2^(L-1) times longer, into --stats
+                      (the check that the batches outlast RB's correlation)         [1]
+)";
+
+}  // namespace
+
+const char* render_help() {
+  static const std::string text = std::string(kRenderHelpHead) + kRenderHelpTail;
+  return text.c_str();
+}
+
+const char* render_help_all() {
+  static const std::string text = std::string(kRenderHelpHead) + kRenderHelpTuning;
+  return text.c_str();
 }
 
 RenderOptions parse_render_options(const std::vector<std::string>& args) {
@@ -258,7 +228,8 @@ RenderOptions parse_render_options(const std::vector<std::string>& args) {
          o.weights = v;
        }},
       {"--rb-level", [&](auto& k, auto& v) {
-         if (v != "corrected" && v != "own") throw UsageError(k + ": expected corrected or own, got '" + v + "'");
+         if (v != "regional" && v != "corrected" && v != "own")
+           throw UsageError(k + ": expected regional, corrected or own, got '" + v + "'");
          o.rb_level = v;
        }},
       {"--beta", [&](auto& k, auto& v) {
@@ -322,6 +293,10 @@ RenderOptions parse_render_options(const std::vector<std::string>& args) {
       {"--target-error", [&](auto& k, auto& v) {
          o.target_error = parse_number<double>(k, v, 1e-300, 1e300, "a relMSE > 0 (e.g. 0.001)");
        }},
+      {"--target-block-error", [&](auto& k, auto& v) {
+         o.target_block_error = parse_number<double>(k, v, 1e-300, 1e300, "a relative error > 0 (e.g. 0.02)");
+       }},
+      {"--regions", [&](auto& k, auto& v) { o.regions = parse_number<int>(k, v, 1, 64, "an integer in 1..64"); }},
       {"--error-batch", [&](auto& k, auto& v) {
          o.error_batch = parse_number<std::uint64_t>(k, v, 1, 1ull << 24, "an integer in 1..16777216");
        }},
@@ -395,10 +370,11 @@ RenderOptions parse_render_options(const std::vector<std::string>& args) {
   if (iterations_given && o.mode == "pt") throw UsageError("--iterations counts ray-bundle iterations; with --mode pt use --spp");
   if (spp_given && iterations_given)
     throw UsageError("give --spp or --iterations, not both: --ratio fixes one from the other");
-  if (o.target_error > 0.0 && (spp_given || iterations_given))
-    throw UsageError(std::string("--target-error ends the render by its error: not with ") +
+  if ((o.target_error > 0.0 || o.target_block_error > 0.0) && (spp_given || iterations_given))
+    throw UsageError(std::string(o.target_error > 0.0 ? "--target-error" : "--target-block-error") +
+                     " ends the render by its error: not with " +
                      (spp_given ? "--spp" : "--iterations") + " (use --time as a cap)");
-  const bool unbounded = o.seconds == 0.0 && o.target_error == 0.0;
+  const bool unbounded = o.seconds == 0.0 && o.target_error == 0.0 && o.target_block_error == 0.0;
   if (o.mode == "pt" && !spp_given && unbounded) o.spp = 64;
   if (o.mode == "rb" && !iterations_given && unbounded) o.iterations = 1000;
   if (o.mode == "combined" && o.ratio == 0.0 && spp_given)

@@ -12,7 +12,8 @@ using RenderOptions = RenderSpec;
 // Parses the arguments after "render". Throws UsageError.
 RenderOptions parse_render_options(const std::vector<std::string>& args);
 
-const char* render_help();
+const char* render_help();      // the everyday options
+const char* render_help_all();  // and the estimator's tuning knobs
 const char* main_help();
 
 }  // namespace bp

@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <optional>
+#include <vector>
 
 namespace bp {
 namespace {
@@ -36,6 +37,31 @@ void update_error_estimates(RenderState& s, std::optional<std::uint64_t> rounds_
         s.expected_worst_region_error = view.expected_worst_region_error;
     }
   }
+}
+
+// How far the render is from its error targets (--target-error, --target-block-error): the rounds
+// they need, from relMSE ∝ 1/N and a region's relative error ∝ 1/√N, and the fraction done (the
+// later target and the lesser fraction); unknown without a target or an estimate yet.
+struct TargetProgress {
+  bool known = false;
+  double rounds_needed = 0.0, fraction = 1.0;
+};
+TargetProgress target_progress(const RenderState& s, std::uint64_t rounds_done) {
+  const RenderSpec& o = s.spec;
+  std::vector<double> needed_over_done;  // per target: the rounds it needs over those done
+  if (o.target_error > 0.0) needed_over_done.push_back(s.estimated_rel_mse / o.target_error);
+  if (o.target_block_error > 0.0) {
+    const double ratio = s.expected_worst_region_error / o.target_block_error;
+    needed_over_done.push_back(ratio * ratio);
+  }
+  TargetProgress t;
+  t.known = !needed_over_done.empty();
+  for (double f : needed_over_done) {
+    t.known = t.known && std::isfinite(f) && f > 0.0;
+    t.rounds_needed = std::max(t.rounds_needed, f * double(rounds_done));
+    t.fraction = std::min(t.fraction, std::min(1.0, 1.0 / f));
+  }
+  return t;
 }
 
 // A resumed render starts from the checkpoint's accumulators, ray-bundle state and round count.
@@ -265,30 +291,13 @@ void render_rounds(RenderState& s, RenderObserver& observer) {
         RenderProgressReport report;
         report.frames = s.views.size();
         report.fraction = p.fraction;
-        if (p.rounds_done > s.first_round) {
-          // relMSE ∝ 1/N and a region's relative error ∝ 1/√N: a target X is reached after
-          // N·relMSE/X or N·(E/X)² rounds, at this run's seconds per round; the later of the two.
-          double rounds_needed = 0.0, fraction = 0.0;
-          bool known = true;
-          if (o.target_error > 0.0) {
-            known = known && std::isfinite(s.estimated_rel_mse);
-            rounds_needed = std::max(rounds_needed, double(p.rounds_done) * s.estimated_rel_mse / o.target_error);
-            fraction = std::min(1.0, o.target_error / s.estimated_rel_mse);
-          }
-          if (o.target_block_error > 0.0) {
-            const double ratio = s.expected_worst_region_error / o.target_block_error;
-            known = known && std::isfinite(ratio);
-            rounds_needed = std::max(rounds_needed, double(p.rounds_done) * ratio * ratio);
-            fraction = o.target_error > 0.0 ? std::min(fraction, std::min(1.0, 1.0 / (ratio * ratio)))
-                                            : std::min(1.0, 1.0 / (ratio * ratio));
-          }
-          if (known && (o.target_error > 0.0 || o.target_block_error > 0.0)) {
-            const double seconds_per_round = p.elapsed_seconds / double(p.rounds_done - s.first_round);
-            double eta = std::max(0.0, rounds_needed - double(p.rounds_done)) * seconds_per_round;
-            if (o.seconds > 0.0) eta = std::min(eta, std::max(0.0, o.seconds - p.elapsed_seconds));
-            report.eta_seconds = eta;
-            report.fraction = std::max(report.fraction, fraction);
-          }
+        const TargetProgress target = target_progress(s, p.rounds_done);
+        if (target.known && p.rounds_done > s.first_round) {
+          const double seconds_per_round = p.elapsed_seconds / double(p.rounds_done - s.first_round);
+          double eta = std::max(0.0, target.rounds_needed - double(p.rounds_done)) * seconds_per_round;
+          if (o.seconds > 0.0) eta = std::min(eta, std::max(0.0, o.seconds - p.elapsed_seconds));
+          report.eta_seconds = eta;
+          report.fraction = std::max(report.fraction, target.fraction);
         }
         report.rate = double(p.rounds_done - s.first_round) * samples_per_round / secs;
         report.mrays_per_second = double(p.rays) / secs * 1e-6;
