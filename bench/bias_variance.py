@@ -14,7 +14,7 @@ prints, averaged over pixels and channels (each term divided by R^2 + 0.01):
                    the latter alone)
 At k times the work of these renders, relMSE is about var_tot / k + bias2_of_mean.
 
-Example (issue #12, README "Large interiors"; a quarter of a 20 s render, four seeds):
+Example (docs/results.md, "The default against each estimator"; a quarter of a 20 s render, four seeds):
   for s in 1 2 3 4; do build/bundlepath render scenes/cornell-glossy.gltf --width 128 --height 128 \\
     --mode combined --ratio 1/2 --eye-direct pt --spp 470 --seed $s --out /tmp/c$s; done
   bench/bias_variance.py REF.exr /tmp/c1.exr /tmp/c2.exr /tmp/c3.exr /tmp/c4.exr
