@@ -180,11 +180,12 @@ BatchCounts CombinedPass::run(std::uint64_t first, std::uint32_t count) {
 
 std::uint32_t CombinedPass::max_batch() const {
   if (shape_.pt_alone()) return std::max<std::uint32_t>(1, pt_.max_batch() / shape_.pt_samples);
-  // A loop batch holds at most kRegionalBatchRbIterations of RB (or one round): the regional error's
-  // batches (image/regional_error.h) close at loop batch ends, and a short render needs several.
+  if (shape_.pt_samples == 0) return std::max<std::uint32_t>(1, rb_.max_batch() / shape_.rb_iterations);  // as --mode rb
+  // With PT, a loop batch holds at most kRegionalBatchRbIterations of RB (or one round): the
+  // regional error's batches (image/regional_error.h) close at loop batch ends, and a short render
+  // needs several.
   const std::uint32_t rb =
       std::min<std::uint32_t>(rb_.max_batch(), std::uint32_t(kRegionalBatchRbIterations)) / shape_.rb_iterations;
-  if (shape_.pt_samples == 0) return std::max<std::uint32_t>(1, rb);
   return std::max<std::uint32_t>(1, std::min(pt_.max_batch() / shape_.pt_samples, rb));
 }
 
