@@ -35,12 +35,10 @@ namespace bp {
 
 // RB iterations per batch of the regional estimate, and the most a combined render's loop batch
 // holds (passes/combined.cpp), so that a short render of few rounds still has batches to spread.
-// Measured (README, "Regional error"): the lag-1 correlation of consecutive 32-iteration batches'
-// region means on the houses and the Cornell boxes.
+// Whether 32 iterations outlast RB's correlation is checked, not assumed: --stats reports the lag-1
+// correlation of consecutive batches' region means (rb_batch_correlation), and the z-scores of
+// bench/regional_error.sh and tests/e2e/test_regional_error.cpp test the variance it gives.
 constexpr std::uint64_t kRegionalBatchRbIterations = 32;
-
-// The default grid: 8x8 regions (at 640x360, blocks of 80x45 pixels).
-constexpr int kRegionGridDefault = 8;
 
 class RegionalError {
  public:
