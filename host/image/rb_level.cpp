@@ -12,7 +12,11 @@ double rb_level_factor(double rb_level, double rb_variance, double pt_level, dou
   if (rb_variance + pt_variance <= 0.0) return 1.0;
   // M = (M_RB / Var_RB + M_PTc / Var_PTc) / (1 / Var_RB + 1 / Var_PTc), written without dividing by
   // a variance that may be 0: the weight of RB's own level is Var_PTc / (Var_RB + Var_PTc).
-  const double rb_weight = pt_variance / (rb_variance + pt_variance);
+  return rb_level_factor_weighted(rb_level, pt_level, pt_variance / (rb_variance + pt_variance));
+}
+
+double rb_level_factor_weighted(double rb_level, double pt_level, double rb_weight) {
+  if (!(std::isfinite(rb_level) && rb_level > 0.0 && std::isfinite(pt_level) && std::isfinite(rb_weight))) return 1.0;
   const double mean = rb_weight * rb_level + (1.0 - rb_weight) * pt_level;
   if (!(mean > 0.0)) return 1.0;
   return mean / rb_level;  // s = M / M_RB
@@ -70,18 +74,21 @@ std::vector<std::array<double, 3>> RbLevel::standard_errors(const BatchMeansErro
   return out;
 }
 
-std::vector<std::array<double, 3>> RbLevel::factors() const {
+std::vector<std::array<double, 3>> RbLevel::factors(const std::vector<double>& rb_weights) const {
   const auto rb = rb_levels(), pt = pt_levels(), rb_se = rb_standard_errors(), pt_se = pt_standard_errors();
   std::vector<std::array<double, 3>> out(rb.size());
   for (std::size_t r = 0; r < out.size(); ++r)
-    for (std::size_t c = 0; c < 3; ++c)
-      out[r][c] = std::clamp(rb_level_factor(rb[r][c], rb_se[r][c] * rb_se[r][c], pt[r][c], pt_se[r][c] * pt_se[r][c]),
-                             1.0 / kRbLevelFactorLimit, kRbLevelFactorLimit);
+    for (std::size_t c = 0; c < 3; ++c) {
+      const bool weighted = r < rb_weights.size() && std::isfinite(rb_weights[r]);
+      const double factor = weighted ? rb_level_factor_weighted(rb[r][c], pt[r][c], rb_weights[r])
+                                     : rb_level_factor(rb[r][c], rb_se[r][c] * rb_se[r][c], pt[r][c], pt_se[r][c] * pt_se[r][c]);
+      out[r][c] = std::clamp(factor, 1.0 / kRbLevelFactorLimit, kRbLevelFactorLimit);
+    }
   return out;
 }
 
-std::vector<double> RbLevel::pixel_factors() const {
-  const std::vector<std::array<double, 3>> target = factors();
+std::vector<double> RbLevel::pixel_factors(const std::vector<double>& rb_weights) const {
+  const std::vector<std::array<double, 3>> target = factors(rb_weights);
   if (grid_.count() == 1) return grid_.bilinear(target);  // one factor: the field is constant
   // The centre values g_r whose bilinear field F scales each region's RB layer by its factor:
   // Σ_{p∈r} F(p) rb(p) = s_r Σ_{p∈r} rb(p), per channel. g ← g · s_r / (the region's mean factor).
@@ -96,8 +103,8 @@ std::vector<double> RbLevel::pixel_factors() const {
       for (std::size_t c = 0; c < 3; ++c) {
         const double own = rb_sums[r * 3 + c], now = scaled_sums[r * 3 + c];
         if (own > 0.0 && now > 0.0)
-          centre[r][c] = std::clamp(centre[r][c] * target[r][c] * own / now, 1.0 / kRbLevelFactorLimit,
-                                    kRbLevelFactorLimit);
+          centre[r][c] = std::clamp(centre[r][c] * target[r][c] * own / now, 1.0 / kRbLevelFieldCentreLimit,
+                                    kRbLevelFieldCentreLimit);
       }
     field = grid_.bilinear(centre);
   }

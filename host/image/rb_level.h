@@ -40,6 +40,9 @@ namespace bp {
 // M / M_RB (above). 1 (RB's own level) where the factor cannot be trusted: a variance is unknown
 // (NaN: fewer than two batches) or RB's level or the mean is not positive and finite.
 double rb_level_factor(double rb_level, double rb_variance, double pt_level, double pt_variance);
+// The same with RB's weight in the mean given: M = w·M_RB + (1 − w)·M_PTc, as a factor M / M_RB
+// (--rb-level regional: w is RegionalError's λ, from the variances of the region's luminance).
+double rb_level_factor_weighted(double rb_level, double pt_level, double rb_weight);
 
 // The factors RbLevel applies stay within [1 / limit, limit]: in a region where RB's share is nearly
 // nothing (a dark corner, RB's layer a few noisy pixels) the ratio M / M_RB could be large and
@@ -49,6 +52,12 @@ constexpr double kRbLevelFactorLimit = 4.0;
 // factor to its mean under the field; 16 bring every region's mean within 1e-4 of its factor on
 // the houses (checked in tests/unit/test_rb_level.cpp).
 constexpr int kRbLevelFieldIterations = 16;
+// The field's centre values may go further than the factors: where a region's RB layer lies near
+// its edge (a bright patch, a few firefly pixels), its neighbours' centres weigh there, and its own
+// centre must move further for the region's mean to reach its factor (the glossy box at 8 spp: a
+// region whose factor is 0.35 needed a centre below 1/4). What the field still misses is reported
+// as error (image/regional_error.h).
+constexpr double kRbLevelFieldCentreLimit = 16.0;
 
 class RbLevel {
  public:
@@ -67,15 +76,17 @@ class RbLevel {
 
   const RegionGrid& grid() const { return grid_; }
   // Per region and channel: the factor s on RB's weighted layer, the levels (the region's mean) and
-  // the standard errors of their means.
-  std::vector<std::array<double, 3>> factors() const;
+  // the standard errors of their means. `rb_weights`, per region (--rb-level regional): RB's weight
+  // in the inverse-variance mean, as RegionalError computes it, so that the image is the estimator
+  // whose error it reports; empty, or NaN in a region: from this class's own variances.
+  std::vector<std::array<double, 3>> factors(const std::vector<double>& rb_weights = {}) const;
   std::vector<std::array<double, 3>> rb_levels() const { return levels(rb_sums_, *rb_); }
   std::vector<std::array<double, 3>> pt_levels() const { return levels(pt_sums_, *pt_); }
   std::vector<std::array<double, 3>> rb_standard_errors() const { return standard_errors(*rb_); }
   std::vector<std::array<double, 3>> pt_standard_errors() const { return standard_errors(*pt_); }
   // Per pixel and channel, the factor on RB's layer: the regions' factors, bilinear between their
   // centres (one factor per channel on a 1x1 grid).
-  std::vector<double> pixel_factors() const;
+  std::vector<double> pixel_factors(const std::vector<double>& rb_weights = {}) const;
   std::uint64_t batches() const { return pt_->batches(); }
   State state() const { return State{pt_->state(), rb_->state()}; }
 

@@ -137,24 +137,32 @@ std::vector<double> RegionalError::variances(const Track& t) const {
 }
 
 namespace {
-// RB's weight λ in the inverse-variance mean of its share (image/rb_level.h's rb_level_factor).
-double rb_weight(double v_r, double v_d) { return v_r + v_d > 0.0 ? v_d / (v_r + v_d) : 1.0; }
+// RB's discretisation bias in a region, squared, as far as PT sees it: r and d estimate the same
+// share, d without bias, so E[(r − d)²] = b² + V_r + V_d; the estimate max(0, (r − d)² − V_r − V_d).
+double rb_bias_squared(double v_r, double v_d, double r, double d) { return std::max(0.0, (r - d) * (r - d) - v_r - v_d); }
+// RB's weight λ in its region's share, λ r + (1 − λ) d: the least mean squared error with r biased by
+// b, λ = V_d / (V_r + V_d + b²); the inverse-variance weight where r and d agree within their noise.
+double rb_weight(double v_r, double v_d, double bias_squared) {
+  const double total = v_r + v_d + bias_squared;
+  return total > 0.0 ? v_d / total : 1.0;
+}
 }  // namespace
+
+std::vector<double> RegionalError::rb_weights() const {
+  std::vector<double> out(grid_.count(), std::nan(""));
+  if (!r_ || !d_) return out;
+  const std::vector<double> v_r = variances(*r_), v_d = variances(*d_), r = means(*r_), d = means(*d_);
+  for (std::size_t b = 0; b < out.size(); ++b)
+    if (!std::isnan(v_r[b] + v_d[b] + r[b] + d[b])) out[b] = rb_weight(v_r[b], v_d[b], rb_bias_squared(v_r[b], v_d[b], r[b], d[b]));
+  return out;
+}
 
 std::vector<double> RegionalError::region_means() const {
   const std::size_t n = grid_.count();
   const std::vector<double> none(n, 0.0);
   const std::vector<double> w = w_ ? means(*w_) : none, r = r_ ? means(*r_) : none;
   std::vector<double> out(n);
-  if (regional_field_ && d_) {  // w + λ r + (1 − λ) d, λ from the variances (NaN before two batches: w + r)
-    const std::vector<double> d = means(*d_), v_r = variances(*r_), v_d = variances(*d_);
-    for (std::size_t b = 0; b < n; ++b) {
-      const double lambda = std::isnan(v_r[b] + v_d[b]) ? 1.0 : rb_weight(v_r[b], v_d[b]);
-      out[b] = w[b] + lambda * r[b] + (1.0 - lambda) * d[b];
-    }
-    return out;
-  }
-  for (std::size_t b = 0; b < n; ++b) out[b] = w[b] + rb_factors_[b] * r[b];  // w + s·r
+  for (std::size_t b = 0; b < n; ++b) out[b] = w[b] + rb_factors_[b] * r[b];  // w + s·r, as written
   return out;
 }
 
@@ -165,13 +173,17 @@ std::vector<double> RegionalError::standard_errors() const {
   std::vector<double> out(n);
   const bool field = regional_field_ && d_;
   const std::vector<double> v_u = field ? variances(*u_) : none, v_d = field ? variances(*d_) : none;
+  const std::vector<double> r = field ? means(*r_) : none, d = field ? means(*d_) : none;
   for (std::size_t b = 0; b < n; ++b) {
     double v;
     if (field) {
-      const double lambda = rb_weight(v_r[b], v_d[b]);
+      const double bias_squared = rb_bias_squared(v_r[b], v_d[b], r[b], d[b]);
+      const double lambda = rb_weight(v_r[b], v_d[b], bias_squared);
       const double cov_w_d = 0.5 * (v_u[b] - v_w[b] - v_d[b]);  // u = w + d
-      v = v_w[b] + lambda * lambda * v_r[b] + (1.0 - lambda) * (1.0 - lambda) * v_d[b] +
-          2.0 * (1.0 - lambda) * cov_w_d;
+      // δ: the region's mean as written less the λ formula's (the w terms cancel)
+      const double missed = rb_factors_[b] * r[b] - (lambda * r[b] + (1.0 - lambda) * d[b]);
+      v = v_w[b] + lambda * lambda * (v_r[b] + bias_squared) + (1.0 - lambda) * (1.0 - lambda) * v_d[b] +
+          2.0 * (1.0 - lambda) * cov_w_d + missed * missed;
     } else {
       v = v_w[b] + rb_factors_[b] * rb_factors_[b] * v_r[b];  // Var(w + s·r), independent layers
     }

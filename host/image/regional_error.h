@@ -18,10 +18,18 @@
 // The image's region mean is
 //   w + s·r                        RB's layer scaled by a factor s taken as exact (--rb-level own:
 //                                  s = 1; corrected: one factor per channel), or
-//   w + λ r + (1 − λ) d            --rb-level regional: RB's share in the region is the
-//                                  inverse-variance mean M of r and d, λ = V_d / (V_r + V_d),
-// with variances V_w + s² V_r, or V_w + λ² V_r + (1 − λ)² V_d + 2 (1 − λ) Cov(w, d), where
+//   w + λ r + (1 − λ) d            --rb-level regional: RB's share in the region is the mean M of r
+//                                  and d of least squared error, λ = V_d / (V_r + V_d + b²), where
+//                                  b² = max(0, (r − d)² − V_r − V_d) estimates the square of RB's
+//                                  discretisation bias in the region (d is unbiased; without a
+//                                  bias, the inverse-variance mean),
+// with variances V_w + s² V_r, or V_w + λ² (V_r + b²) + (1 − λ)² V_d + 2 (1 − λ) Cov(w, d), where
 // Cov(w, d) = (V_u − V_w − V_d) / 2 since u = w + d (PT's layers share their samples).
+// RbLevel's field takes its λ from here (rb_weights), but a smooth field cannot always give a region
+// exactly its factor (the factors' limits; RB's layer concentrated where the neighbours' centres
+// weigh): the region's mean as written is w + s·r with the field's effective s, and what it misses of
+// the λ formula's mean, δ = (w + s·r) − (w + λ r + (1 − λ) d), is known and counted as error:
+// the region's variance is that of the λ formula plus δ².
 #pragma once
 #include "image/accumulator.h"
 #include "image/error_estimate.h"
@@ -61,10 +69,13 @@ class RegionalError {
   // How RB's layer counts in the image: its per-pixel, per-channel factors (empty: 1), and whether
   // they are --rb-level regional's field on this grid (the λ formula above).
   void set_rb_factors(std::vector<double> pixel_factors, bool regional_field);
+  // Per region, RB's weight λ in the inverse-variance mean of its share (the formula above), for
+  // RbLevel's field; NaN where a variance is not known yet (fewer than two batches) or without d.
+  std::vector<double> rb_weights() const;
 
   const RegionGrid& grid() const { return grid_; }
-  // Per region: the image's mean luminance, and its standard error (NaN until every tracked layer has
-  // two batches).
+  // Per region: the image's mean luminance as written, and its standard error (NaN until every
+  // tracked layer has two batches).
   std::vector<double> region_means() const;
   std::vector<double> standard_errors() const;
   // Per region, the standard error over the mean (NaN where the mean is not positive).

@@ -24,7 +24,7 @@ void update_error_estimates(RenderState& s, std::optional<std::uint64_t> rounds_
     if (rounds_done) view.error_estimate->add(*rounds_done);
     if (rounds_done && view.regional_error) view.regional_error->add(*rounds_done);
     if (view.rb_level) {
-      std::vector<double> factors = view.rb_level->pixel_factors();
+      std::vector<double> factors = rb_pixel_factors(view);
       if (view.regional_error) view.regional_error->set_rb_factors(factors, view.rb_level->grid().count() > 1);
       view.error_estimate->set_factors("rb", std::move(factors));
     }

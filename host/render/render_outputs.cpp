@@ -40,6 +40,13 @@ const ImageRGB* RenderLayers::find(const std::string& name) const {
   return nullptr;
 }
 
+std::vector<double> rb_pixel_factors(const RenderView& view) {
+  const RegionGrid& grid = view.rb_level->grid();
+  const bool regional = grid.count() > 1 && view.regional_error && view.regional_error->grid().columns == grid.columns &&
+                        view.regional_error->grid().rows == grid.rows;
+  return view.rb_level->pixel_factors(regional ? view.regional_error->rb_weights() : std::vector<double>{});
+}
+
 RenderLayers make_layers(const RenderState& s, const RenderView& view) {
   const int width = s.scene.width, height = s.scene.height;
   const bool pt = !s.pt.empty();
@@ -48,7 +55,7 @@ RenderLayers make_layers(const RenderState& s, const RenderView& view) {
   ImageRGB rb_image = s.rb ? view.rb_accum.mean() : ImageRGB(width, height);
   // The combined image, pt + s·rb with --rb-level's field s (image/rb_level.h); the rb layer stays
   // RB's own weighted estimate.
-  const std::vector<double> rb_factors = view.rb_level ? view.rb_level->pixel_factors() : std::vector<double>{};
+  const std::vector<double> rb_factors = view.rb_level ? rb_pixel_factors(view) : std::vector<double>{};
   layers.images.emplace_back("", sum_images(pt_image, rb_image, rb_factors));
   // No rb layers where --ratio auto chose the path tracer alone: RB rendered nothing.
   if (s.shape) {

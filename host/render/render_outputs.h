@@ -20,6 +20,10 @@ struct RenderLayers {
   const ImageRGB* find(const std::string& name) const;
 };
 RenderLayers make_layers(const RenderState& s, const RenderView& view);
+// The factors on the view's RB layer in the combined image, per pixel and channel (--rb-level,
+// image/rb_level.h): under the regional level with RB's weights from the view's regional error, so
+// that the image is the estimator whose error that reports.
+std::vector<double> rb_pixel_factors(const RenderView& view);
 
 // Writes the view's PREFIX.exr (the layers and the standard error), PREFIX.png and the contact sheet
 // (one view); gives their paths.
