@@ -137,8 +137,8 @@ estimator tuning (the defaults are measured: docs/results.md):
                       density per patch: biased) or none (plain sum: counts twice)  [product]
   --beta B            product weights' per-vertex factor from PT's density P: clamped,
                       min(1, N2/(N1 P)), or balance, N2/(N2 + N1 P) (the paper's)  [clamped]
-  --rb-level L        RB's share scaled to the inverse-variance mean of its own level and PT's
-                      estimate of it, per region (regional) or image (corrected), or own  [regional]
+  --rb-level L        RB's share scaled to the weighted mean of its own level and PT's estimate
+                      of it, per region (regional) or image (corrected), or own  [regional]
   --rb-light-rate R   combined with light sampling: the probability that a patch traces its
                       shadow ray in an iteration, in (0, 1]      [min(1, pixels / patches)]
   --rb-sun S          combined with light sampling: RB's patches sample a sun when their light

@@ -18,7 +18,9 @@
 // --rb-level regional (DESIGN.md §9, "Regional error") does the same per region of a grid
 // (image/regions.h): RB's chain moves the light of whole rooms together, so its error is regional
 // as well as global, and PT's estimate of RB's share in a region of thousands of pixels is still
-// good to a percent or so. Each region gets its own factor s_r; the image's RB layer is scaled by a
+// good to a percent or so. Each region gets its own factor s_r, its weights those of the regional
+// error estimate (image/regional_error.h: inverse-variance, leaning on PT where RB's level differs
+// from PT's by more than their noise, RB's discretisation bias); the image's RB layer is scaled by a
 // field interpolated bilinearly between values at the regions' centres (smooth: RB's regional error
 // is smooth, and a step at a block edge would show), those values chosen so that each region's mean
 // of the scaled layer is exactly s_r times its own (a fixed point, kRbLevelFieldIterations
