@@ -147,19 +147,26 @@ BatchMeansErrorEstimate BatchMeansErrorEstimate::from_state(State state, int wid
 
 ImageErrorEstimate::ImageErrorEstimate(int width, int height, std::vector<Layer> layers, int levels,
                                        std::uint64_t first_round,
-                                       const std::vector<BatchMeansErrorEstimate::State>* resumed)
-    : width_(width), height_(height), layers_(std::move(layers)), factors_(layers_.size()) {
-  if (resumed && resumed->size() != layers_.size())
+                                       const std::vector<BatchMeansErrorEstimate::State>* resumed,
+                                       std::optional<RoundSums> pt_rb_share)
+    : width_(width), height_(height), layers_(std::move(layers)), factors_(layers_.size()), pt_rb_share_(pt_rb_share) {
+  const std::size_t states = layers_.size() + (pt_rb_share_ ? 1 : 0);
+  if (resumed && resumed->size() != states)
     throw std::runtime_error("the error estimate's batch statistics hold " + std::to_string(resumed->size()) +
-                             " layer(s), this render has " + std::to_string(layers_.size()));
+                             " layer(s), this render has " + std::to_string(states));
   for (std::size_t l = 0; l < layers_.size(); ++l)
     estimates_.push_back(resumed ? BatchMeansErrorEstimate::from_state((*resumed)[l], width, height)
                                  : BatchMeansErrorEstimate(width, height, layers_[l].batch_rounds, levels, first_round,
                                                            first_round ? &layers_[l].sums : nullptr));
+  if (pt_rb_share_)  // PT's rounds are independent: batches of one round
+    pt_rb_share_estimate_.emplace(resumed ? BatchMeansErrorEstimate::from_state(resumed->back(), width, height)
+                                          : BatchMeansErrorEstimate(width, height, 1, levels, first_round,
+                                                                    first_round ? &*pt_rb_share_ : nullptr));
 }
 
 void ImageErrorEstimate::add(std::uint64_t rounds) {
   for (std::size_t l = 0; l < layers_.size(); ++l) estimates_[l].add(rounds, layers_[l].sums);
+  if (pt_rb_share_) pt_rb_share_estimate_->add(rounds, *pt_rb_share_);
 }
 
 void ImageErrorEstimate::set_factors(const std::string& layer, std::vector<double> factors) {
@@ -196,7 +203,27 @@ double ImageErrorEstimate::rel_mse_of(const std::vector<double>& variance) const
   });
 }
 
-double ImageErrorEstimate::estimated_rel_mse(int level) const { return rel_mse_of(variance_of_mean(level)); }
+double ImageErrorEstimate::estimated_rel_mse(int level) const {
+  const double variance = rel_mse_of(variance_of_mean(level)), bias = rb_bias_rel_mse(level);
+  return std::isnan(bias) ? variance : variance + bias;
+}
+
+double ImageErrorEstimate::rb_bias_rel_mse(int level) const {
+  std::size_t rb = layers_.size();
+  for (std::size_t l = 0; l < layers_.size(); ++l)
+    if (std::string(layers_[l].name) == "rb") rb = l;
+  if (!pt_rb_share_ || rb == layers_.size() || estimates_[rb].rounds() == 0) return std::nan("");
+  const std::vector<double> var_r = layer_variance(rb, level), var_d = pt_rb_share_estimate_->variance_of_mean(level);
+  if (var_r.empty() || var_d.empty()) return std::nan("");
+  const double inv_rounds = 1.0 / double(estimates_[rb].rounds());
+  std::vector<double> bias_squared(var_r.size());
+  for (std::size_t i = 0; i < bias_squared.size(); ++i) {
+    // (s·r − d)² − s² Var(r) − Var(d): E = (s E[r] − E[d])², r and d independent (var_r has the s²)
+    const double diff = (factor(rb, i) * layers_[rb].sums.at(i) - pt_rb_share_->at(i)) * inv_rounds;
+    bias_squared[i] = diff * diff - var_r[i] - var_d[i];
+  }
+  return std::max(0.0, rel_mse_of(bias_squared));
+}
 
 double ImageErrorEstimate::layer_rel_mse(std::size_t layer, int level) const {
   return rel_mse_of(layer_variance(layer, level));
@@ -229,6 +256,7 @@ ImageRGB ImageErrorEstimate::standard_error() const {
 std::vector<BatchMeansErrorEstimate::State> ImageErrorEstimate::state() const {
   std::vector<BatchMeansErrorEstimate::State> out;
   for (const BatchMeansErrorEstimate& e : estimates_) out.push_back(e.state());
+  if (pt_rb_share_estimate_) out.push_back(pt_rb_share_estimate_->state());
   return out;
 }
 

@@ -8,6 +8,7 @@
 #include "image/image.h"
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -29,7 +30,8 @@ constexpr double kMinDegreesOfFreedomForTarget = 7.0;
 struct RoundSums {
   const std::vector<double>* sums = nullptr;
   double scale = 1.0;
-  double at(std::size_t i) const { return (*sums)[i] * scale; }
+  const std::vector<double>* minus = nullptr;  // subtracted before scaling (PT's unweighted less weighted sums)
+  double at(std::size_t i) const { return ((*sums)[i] - (minus ? (*minus)[i] : 0.0)) * scale; }
 };
 
 class BatchMeansErrorEstimate {
@@ -101,9 +103,13 @@ class ImageErrorEstimate {
   };
   // `levels` batch lengths per layer (the blocking check, BatchMeansErrorEstimate). Starts at round
   // `first_round` (the layers' sums then are where its batches start), or from a checkpoint's
-  // `resumed` states, one per layer; throws std::runtime_error if they do not fit.
+  // `resumed` states, one per layer and then the check's; throws std::runtime_error if they do not fit.
+  // `pt_rb_share`, where given (a combined render), is PT's estimate of RB's share times the rounds,
+  // d = u − w per round (its unweighted less its weighted sums), batched like PT's layer: the check
+  // of RB's layer against it (rb_bias_rel_mse).
   ImageErrorEstimate(int width, int height, std::vector<Layer> layers, int levels, std::uint64_t first_round,
-                     const std::vector<BatchMeansErrorEstimate::State>* resumed = nullptr);
+                     const std::vector<BatchMeansErrorEstimate::State>* resumed = nullptr,
+                     std::optional<RoundSums> pt_rb_share = std::nullopt);
 
   // After a batch of the render loop: the layers' sums hold rounds [0, rounds).
   void add(std::uint64_t rounds);
@@ -112,8 +118,16 @@ class ImageErrorEstimate {
   void set_factors(const std::string& layer, std::vector<double> factors);
 
   // The image's relMSE (BatchMeansErrorEstimate's formula) with the layers' variances summed, from
-  // each layer's batches of level j; NaN until every layer has two batches.
+  // each layer's batches of level j, plus rb_bias_rel_mse where it is known; NaN until every layer has
+  // two batches.
   double estimated_rel_mse(int level = 0) const;
+  // What RB's layer as it counts in the image (s·r per pixel) is off from PT's unbiased estimate of
+  // the same share (d) beyond both noises: RB's discretisation (patches, their Gouraud interpolation,
+  // glossy lobes over a patch), which no variance sees. Per value, (s·r − d)² − s² Var(r) − Var(d)
+  // estimates the bias's square without bias (r and d are independent); summed as the relMSE sums
+  // variances, clipped at 0 (a sum of thousands of pixels' terms: the clip costs about 0.4 of its
+  // noise where there is no bias). NaN without the check or before two batches of each.
+  double rb_bias_rel_mse(int level = 0) const;
   // Each layer's share of it: its variance over the image's reference values (NaN: fewer than two batches).
   double layer_rel_mse(std::size_t layer, int level = 0) const;
   // The degrees of freedom of estimated_rel_mse(): Welch–Satterthwaite's (Σ V_l)² / Σ (V_l² / (K_l − 1)),
@@ -137,6 +151,8 @@ class ImageErrorEstimate {
   std::vector<std::vector<double>> factors_;  // per layer, per value; empty: 1
   double factor(std::size_t layer, std::size_t i) const { return factors_[layer].empty() ? 1.0 : factors_[layer][i]; }
   std::vector<BatchMeansErrorEstimate> estimates_;
+  std::optional<RoundSums> pt_rb_share_;
+  std::optional<BatchMeansErrorEstimate> pt_rb_share_estimate_;
 };
 
 }  // namespace bp

@@ -105,13 +105,17 @@ void start_error_estimate(RenderState& s) {
       layers.push_back({"pt", {&view.pt_accum.sum, s.shape ? 1.0 / s.shape->pt_samples : 1.0}, 1});
     if (s.rb_renders())
       layers.push_back({"rb", {&view.rb_accum.sum, s.shape ? 1.0 / s.shape->rb_iterations : 1.0}, rb_batch_rounds});
+    // A combined render checks RB's layer against PT's estimate of its share (rb_bias_rel_mse).
+    std::optional<RoundSums> pt_rb_share;
+    if (layers.size() == 2 && view.pt_accum.keeps_raw())
+      pt_rb_share = RoundSums{&view.pt_accum.raw_sum, 1.0 / s.shape->pt_samples, &view.pt_accum.sum};
     const std::vector<BatchMeansErrorEstimate::State>* saved =
         !s.resumed ? nullptr : k ? &s.resumed->further_views[k - 1].error_estimate : &s.resumed->error_estimate;
-    // A checkpoint of before the layers were estimated apart holds one estimate of their sum: the
-    // resumed render's estimate starts afresh where that does not fit.
-    if (saved && saved->size() != layers.size()) saved = nullptr;  // also a checkpoint of before #16: none
+    // A checkpoint of before the layers were estimated apart holds one estimate of their sum, one of
+    // before the check none of it: the resumed render's estimate starts afresh where that does not fit.
+    if (saved && saved->size() != layers.size() + (pt_rb_share ? 1 : 0)) saved = nullptr;
     view.error_estimate.emplace(s.scene.width, s.scene.height, std::move(layers), o.error_levels, s.first_round,
-                                saved);
+                                saved, pt_rb_share);
     // The regional error (image/regional_error.h), on the --regions grid: RB's batches of
     // kRegionalBatchRbIterations, in rounds.
     RegionalError::Inputs in;

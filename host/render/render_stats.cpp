@@ -112,6 +112,8 @@ void add_error_estimate_stats(const RenderState& s, nlohmann::json& stats) {
     layers.push_back(out);
   }
   stats["error_estimate"] = {{"degrees_of_freedom", e.degrees_of_freedom()}, {"levels", levels}, {"layers", layers}};
+  // Part of estimated_rel_mse: RB's layer against PT's estimate of its share (null: no check).
+  stats["error_estimate"]["rb_bias_rel_mse"] = e.rb_bias_rel_mse();
 }
 
 // --rb-level (image/rb_level.h): per channel, the factor on RB's layer and the two levels it weighs

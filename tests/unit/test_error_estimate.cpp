@@ -195,6 +195,47 @@ TEST(ErrorEstimate, IndependentLayersAddTheirVariancesAndFreedoms) {
   EXPECT_EQ(pt_alone.degrees_of_freedom(), k_pt);
 }
 
+// RB's layer checked against PT's estimate of its share (rb_bias_rel_mse): PT's weighted layer w and
+// unweighted u = w + d, RB's r scaled by 0.9 in the image. Without a bias, the check is nothing but
+// its noise, clipped at 0 (0 here); with s·r 0.05 above d's mean everywhere, it is the relMSE of that bias
+// (0.0044), within 15 % (its noise about 3 %). Forgetting the noise terms gives 0.0035 without a bias,
+// forgetting the factor 0.022 with it (both tried).
+TEST(ErrorEstimate, RbBiasIsSeenAgainstPtsEstimateOfTheShare) {
+  for (const double bias : {0.0, 0.05}) {
+    std::mt19937_64 rng(bias > 0.0 ? 23 : 29);
+    std::normal_distribution<double> normal;
+    std::vector<double> w_sums(kValues, 0.0), u_sums(kValues, 0.0), rb_sums(kValues, 0.0);
+    constexpr double kFactor = 0.9;
+    ImageErrorEstimate e(kWidth, kHeight, {{"pt", {&w_sums, 1.0}, 1}, {"rb", {&rb_sums, 1.0}, 1}}, 1, 0, nullptr,
+                         RoundSums{&u_sums, 1.0, &w_sums});
+    e.set_factors("rb", std::vector<double>(kValues, kFactor));
+    const std::uint64_t rounds = 400;
+    for (std::uint64_t done = 0; done < rounds;) {
+      const std::uint32_t n = batch_size(done, rounds, 16);
+      for (std::uint32_t r = 0; r < n; ++r)
+        for (std::size_t i = 0; i < kValues; ++i) {
+          const double w = 0.2 + 0.3 * normal(rng), d = 0.5 + 0.8 * normal(rng);
+          w_sums[i] += w;
+          u_sums[i] += w + d;
+          rb_sums[i] += (0.5 + bias) / kFactor + 0.3 * normal(rng);
+        }
+      done += n;
+      e.add(done);
+    }
+    ImageRGB image(kWidth, kHeight);
+    for (std::size_t i = 0; i < kValues; ++i) image.rgb[i] = float((w_sums[i] + kFactor * rb_sums[i]) / double(rounds));
+    const double checked = e.rb_bias_rel_mse();
+    if (bias == 0.0) {
+      EXPECT_LT(checked, 4e-4);
+    } else {
+      const double expected = estimated_rel_mse_of(image, std::vector<double>(kValues, bias * bias));
+      EXPECT_NEAR(checked / expected, 1.0, 0.15) << checked << " vs " << expected;
+    }
+    // The image's estimate counts it beside the layers' variances.
+    EXPECT_NEAR(e.estimated_rel_mse(), e.layer_rel_mse(0) + e.layer_rel_mse(1) + checked, 1e-9);
+  }
+}
+
 TEST(ErrorEstimate, FewerThanTwoBatchesHaveNoEstimate) {
   std::vector<double> sums(kValues, 1.0);
   BatchMeansErrorEstimate estimate(kWidth, kHeight, 64);
