@@ -174,9 +174,32 @@ void ImageErrorEstimate::set_factors(const std::string& layer, std::vector<doubl
     if (layer == layers_[l].name) factors_[l] = std::move(factors);
 }
 
+void ImageErrorEstimate::set_rb_regional_level(const RegionGrid& grid, std::vector<double> rb_level_relative_variance,
+                                               std::vector<double> corrected_level_relative_variance) {
+  rb_level_grid_ = grid;
+  rb_level_rho_r_ = std::move(rb_level_relative_variance);
+  rb_level_rho_m_ = std::move(corrected_level_relative_variance);
+}
+
 std::vector<double> ImageErrorEstimate::layer_variance(std::size_t layer, int level) const {
   std::vector<double> var = estimates_[layer].variance_of_mean(level);
-  for (std::size_t i = 0; i < var.size(); ++i) var[i] *= factor(layer, i) * factor(layer, i);  // Var(f·X) = f² Var(X)
+  const bool regional = rb_level_grid_ && std::string(layers_[layer].name) == "rb" && !var.empty();
+  const double inv_rounds = estimates_[layer].rounds() ? 1.0 / double(estimates_[layer].rounds()) : 0.0;
+  for (std::size_t i = 0; i < var.size(); ++i) {
+    const double f = factor(layer, i);
+    if (regional) {
+      const std::size_t pixel = i / 3;
+      const std::size_t b = rb_level_grid_->region_of(int(pixel % std::size_t(width_)), int(pixel / std::size_t(width_)));
+      const double rho_r = rb_level_rho_r_[b], rho_m = rb_level_rho_m_[b];
+      if (std::isfinite(rho_r) && std::isfinite(rho_m)) {
+        const double r = layers_[layer].sums.at(i) * inv_rounds;
+        // Var(s·r) = s² max(0, Var(r) − r² ρ_r) + (s·r)² ρ_M   (set_rb_regional_level)
+        var[i] = f * f * std::max(0.0, var[i] - r * r * rho_r) + f * f * r * r * rho_m;
+        continue;
+      }
+    }
+    var[i] *= f * f;  // Var(f·X) = f² Var(X)
+  }
   return var;
 }
 
@@ -216,13 +239,29 @@ double ImageErrorEstimate::rb_bias_rel_mse(int level) const {
   const std::vector<double> var_r = layer_variance(rb, level), var_d = pt_rb_share_estimate_->variance_of_mean(level);
   if (var_r.empty() || var_d.empty()) return std::nan("");
   const double inv_rounds = 1.0 / double(estimates_[rb].rounds());
-  std::vector<double> bias_squared(var_r.size());
-  for (std::size_t i = 0; i < bias_squared.size(); ++i) {
-    // (s·r − d)² − s² Var(r) − Var(d): E = (s E[r] − E[d])², r and d independent (var_r has the s²)
-    const double diff = (factor(rb, i) * layers_[rb].sums.at(i) - pt_rb_share_->at(i)) * inv_rounds;
-    bias_squared[i] = diff * diff - var_r[i] - var_d[i];
+  const double image_inv_rounds = 1.0 / double(estimates_.front().rounds());
+  const auto image = [&](std::size_t i) {  // I = Σ layers' sums · factors / rounds, as rel_mse_of
+    double sum = 0.0;
+    for (std::size_t l = 0; l < layers_.size(); ++l) sum += layers_[l].sums.at(i) * factor(l, i);
+    return sum * image_inv_rounds;
+  };
+  // Per pixel, the channels' mean of (s·r − d)² − s² Var(r) − Var(d) over R̂² + 0.01: E of the
+  // numerator = (s E[r] − E[d])², r and d independent (var_r has the s²).
+  const std::size_t pixels = std::size_t(width_) * std::size_t(height_);
+  double sum = 0.0, sum_sq = 0.0;
+  for (std::size_t p = 0; p < pixels; ++p) {
+    double term = 0.0;
+    for (std::size_t i = 3 * p; i < 3 * p + 3; ++i) {
+      const double diff = (factor(rb, i) * layers_[rb].sums.at(i) - pt_rb_share_->at(i)) * inv_rounds;
+      const double r = reference_value(image, width_, height_, i);
+      term += (diff * diff - var_r[i] - var_d[i]) / (r * r + 0.01) / 3.0;
+    }
+    sum += term;
+    sum_sq += term * term;
   }
-  return std::max(0.0, rel_mse_of(bias_squared));
+  const double mean = sum / double(pixels);
+  const double standard_error = std::sqrt(std::max(0.0, sum_sq / double(pixels) - mean * mean) / double(pixels));
+  return mean > kRbBiasSignificance * standard_error ? mean : 0.0;
 }
 
 double ImageErrorEstimate::layer_rel_mse(std::size_t layer, int level) const {

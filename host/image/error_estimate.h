@@ -6,6 +6,7 @@
 // Memory: two doubles per pixel and channel per level (the open batch's start and the sum of squares).
 #pragma once
 #include "image/image.h"
+#include "image/regions.h"
 #include <array>
 #include <cstdint>
 #include <optional>
@@ -21,6 +22,13 @@ namespace bp {
 // hits are re-jittered every 16 iterations, so a batch must hold whole blocks of 16 anyway.
 constexpr std::uint64_t kErrorBatchRbIterations = 64;
 
+// rb_bias_rel_mse counts RB's bias from this many standard errors of its estimate up. The estimate
+// is a small difference of PT's large per-pixel variances ((s·r − d)² less Var(d), d from 8 PT
+// samples per pixel): on the 8spp + 256it Lambert house its 0.0008-0.0010 were 2-2.5 standard errors,
+// where the seeds' spread and the reference left no room for more than 0.0002 of bias, while the
+// glossy box's RB discretisation (0.002, which took the estimate from 0.5x the measured to 1.2x) is
+// about 10 of them.
+constexpr double kRbBiasSignificance = 3.0;
 // --target-error stops only once the estimate has this many degrees of freedom (eight batches of one
 // layer): the variance of fewer is too uncertain for a lucky low estimate to be unlikely.
 constexpr double kMinDegreesOfFreedomForTarget = 7.0;
@@ -117,6 +125,16 @@ class ImageErrorEstimate {
   // image (1 unless set; --rb-level's field, image/rb_level.h).
   void set_factors(const std::string& layer, std::vector<double> factors);
 
+  // --rb-level regional (image/rb_level.h): RB's layer counts in the image with each region's level
+  // replaced by the corrected level, so of RB's per-pixel variance only what varies within the region
+  // stays, and the corrected level's own variance comes instead. Per region of `grid`, ρ_r: the
+  // relative variance of RB's level, Var(r̄) / r̄²; ρ_M: the corrected level's (image/regional_error.h).
+  // Per value, Var(s·r) = s² max(0, Var(r) − r² ρ_r) + (s·r)² ρ_M: the level's fluctuation taken as
+  // common to the region's pixels in proportion to each (a multiplicative level, as RB's chain moves
+  // whole rooms' light). Without it (the 8spp + 256it house) RB's per-pixel variances counted the
+  // level the regional field had replaced: the estimate was 2-3x the spread between seeds.
+  void set_rb_regional_level(const RegionGrid& grid, std::vector<double> rb_level_relative_variance,
+                             std::vector<double> corrected_level_relative_variance);
   // The image's relMSE (BatchMeansErrorEstimate's formula) with the layers' variances summed, from
   // each layer's batches of level j, plus rb_bias_rel_mse where it is known; NaN until every layer has
   // two batches.
@@ -125,8 +143,8 @@ class ImageErrorEstimate {
   // the same share (d) beyond both noises: RB's discretisation (patches, their Gouraud interpolation,
   // glossy lobes over a patch), which no variance sees. Per value, (s·r − d)² − s² Var(r) − Var(d)
   // estimates the bias's square without bias (r and d are independent); summed as the relMSE sums
-  // variances, clipped at 0 (a sum of thousands of pixels' terms: the clip costs about 0.4 of its
-  // noise where there is no bias). NaN without the check or before two batches of each.
+  // variances, and counted where it is significant, kRbBiasSignificance of its standard error from
+  // the pixels' spread above 0 (else 0). NaN without the check or before two batches of each.
   double rb_bias_rel_mse(int level = 0) const;
   // Each layer's share of it: its variance over the image's reference values (NaN: fewer than two batches).
   double layer_rel_mse(std::size_t layer, int level = 0) const;
@@ -152,6 +170,8 @@ class ImageErrorEstimate {
   double factor(std::size_t layer, std::size_t i) const { return factors_[layer].empty() ? 1.0 : factors_[layer][i]; }
   std::vector<BatchMeansErrorEstimate> estimates_;
   std::optional<RoundSums> pt_rb_share_;
+  std::optional<RegionGrid> rb_level_grid_;  // set_rb_regional_level's
+  std::vector<double> rb_level_rho_r_, rb_level_rho_m_;
   std::optional<BatchMeansErrorEstimate> pt_rb_share_estimate_;
 };
 

@@ -157,6 +157,22 @@ std::vector<double> RegionalError::rb_weights() const {
   return out;
 }
 
+RegionalError::RbLevelVariances RegionalError::rb_level_relative_variances() const {
+  RbLevelVariances out{std::vector<double>(grid_.count(), std::nan("")), std::vector<double>(grid_.count(), std::nan(""))};
+  if (!r_ || !d_) return out;
+  const std::vector<double> v_r = variances(*r_), v_d = variances(*d_), r = means(*r_), d = means(*d_);
+  for (std::size_t b = 0; b < grid_.count(); ++b) {
+    if (std::isnan(v_r[b] + v_d[b]) || !(r[b] > 0.0)) continue;
+    const double bias_squared = rb_bias_squared(v_r[b], v_d[b], r[b], d[b]);
+    const double lambda = rb_weight(v_r[b], v_d[b], bias_squared);
+    const double level = lambda * r[b] + (1.0 - lambda) * d[b];
+    if (!(level > 0.0)) continue;
+    out.rb[b] = v_r[b] / (r[b] * r[b]);
+    out.corrected[b] = (lambda * lambda * (v_r[b] + bias_squared) + (1.0 - lambda) * (1.0 - lambda) * v_d[b]) / (level * level);
+  }
+  return out;
+}
+
 std::vector<double> RegionalError::region_means() const {
   const std::size_t n = grid_.count();
   const std::vector<double> none(n, 0.0);

@@ -72,6 +72,14 @@ class RegionalError {
   // Per region, RB's weight λ in the inverse-variance mean of its share (the formula above), for
   // RbLevel's field; NaN where a variance is not known yet (fewer than two batches) or without d.
   std::vector<double> rb_weights() const;
+  // Per region, the relative variance of RB's own level of its share, V_r / r², and of the level the
+  // regional field gives it, Var(λ r + (1 − λ) d) / (λ r + (1 − λ) d)² with RB's bias counted (b²):
+  // the image's per-pixel error under the field (ImageErrorEstimate::set_rb_regional_level). NaN
+  // where not known.
+  struct RbLevelVariances {
+    std::vector<double> rb, corrected;
+  };
+  RbLevelVariances rb_level_relative_variances() const;
 
   const RegionGrid& grid() const { return grid_; }
   // Per region: the image's mean luminance as written, and its standard error (NaN until every

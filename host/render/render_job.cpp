@@ -25,7 +25,12 @@ void update_error_estimates(RenderState& s, std::optional<std::uint64_t> rounds_
     if (rounds_done && view.regional_error) view.regional_error->add(*rounds_done);
     if (view.rb_level) {
       std::vector<double> factors = rb_pixel_factors(view);
-      if (view.regional_error) view.regional_error->set_rb_factors(factors, view.rb_level->grid().count() > 1);
+      const bool regional = view.rb_level->grid().count() > 1;
+      if (view.regional_error) view.regional_error->set_rb_factors(factors, regional);
+      if (view.regional_error && regional) {
+        RegionalError::RbLevelVariances v = view.regional_error->rb_level_relative_variances();
+        view.error_estimate->set_rb_regional_level(view.regional_error->grid(), std::move(v.rb), std::move(v.corrected));
+      }
       view.error_estimate->set_factors("rb", std::move(factors));
     }
     view.estimated_rel_mse = view.error_estimate->estimated_rel_mse();

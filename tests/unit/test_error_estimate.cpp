@@ -197,7 +197,7 @@ TEST(ErrorEstimate, IndependentLayersAddTheirVariancesAndFreedoms) {
 
 // RB's layer checked against PT's estimate of its share (rb_bias_rel_mse): PT's weighted layer w and
 // unweighted u = w + d, RB's r scaled by 0.9 in the image. Without a bias, the check is nothing but
-// its noise, clipped at 0 (0 here); with s·r 0.05 above d's mean everywhere, it is the relMSE of that bias
+// its noise, not counted (0 here); with s·r 0.05 above d's mean everywhere, it is the relMSE of that bias
 // (0.0044), within 15 % (its noise about 3 %). Forgetting the noise terms gives 0.0035 without a bias,
 // forgetting the factor 0.022 with it (both tried).
 TEST(ErrorEstimate, RbBiasIsSeenAgainstPtsEstimateOfTheShare) {
