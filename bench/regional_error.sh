@@ -2,7 +2,8 @@
 # The image's regional error: each render cut into a grid of blocks (8x8 by default, the grid of
 # `render --regions`), the relative error of each block's mean luminance against a long path-traced
 # reference, and each block's z-score against the regional error the render itself reports
-# (--stats' regional_error). Per row: relMSE, the worst block, the RMS over blocks, the largest |z|
+# (--stats' regional_error). Per row: relMSE, the render's own estimate of it and the reference's own
+# (which every measured relMSE contains), the worst block, the RMS over blocks, the largest |z|
 # and its Šidák-corrected equivalent over the blocks (the |z| one block alone would need for the
 # same p-value; under 4 is the bar), the render's own expected worst block, and the work done.
 # Writes a Markdown table to stdout and, with --maps DIR, one SVG of block errors per row.
@@ -38,8 +39,8 @@ cd "$bench_root"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 [ -z "$maps" ] || mkdir -p "$maps"
-echo "| scene | size | budget | mode | seed | work | relMSE | worst block | block RMS | worst \|z\| | Šidák z | expected worst (own) | dof |"
-echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+echo "| scene | size | budget | mode | seed | work | relMSE | relMSE estimated (own) | reference's own | worst block | block RMS | worst \|z\| | Šidák z | expected worst (own) | dof |"
+echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
 for scene_name in $scenes; do
   scene=$(bench_scene "$scene_name")
   label=$(basename "$scene_name"); label=${label%.gl*}  # a path's file name, without .gltf or .glb
@@ -72,7 +73,9 @@ errors = [e for e in ref["relative_error"] if e is not None]
 # z against the render's own regional error and, where the reference's stats have theirs on the
 # same grid, the reference's too: z = (Y - R) / sqrt(σ² + σ_R²).
 ref_se = None
+ref_noise = None  # the reference's own estimated relMSE: every measured relMSE contains it
 if os.path.exists(ref_stats):
+    ref_noise = json.load(open(ref_stats)).get("estimated_rel_mse")
     r = json.load(open(ref_stats)).get("regional_error")
     if r and r["regions"] == reg["regions"]:
         ref_se = r["relative_stderr"]
@@ -98,7 +101,10 @@ rel = s["reference"]["layers"]["combined"]["rel_mse"]
 own = reg.get("expected_worst_error")
 own_text = f"{100 * own:.2f} %" if own is not None else "—"
 budget_text = f"{budget} s" if budget.replace(".", "").isdigit() else budget
-print(f"| {scene} | {size} | {budget_text} | {mode} | {seed} | {work} | {rel:.4g} | {100 * worst:.2f} % | "
+est = s.get("estimated_rel_mse")
+est_text = f"{est:.4g}" if est is not None else "—"
+noise_text = f"{ref_noise:.2g}" if ref_noise is not None else "—"
+print(f"| {scene} | {size} | {budget_text} | {mode} | {seed} | {work} | {rel:.4g} | {est_text} | {noise_text} | {100 * worst:.2f} % | "
       f"{100 * rms:.2f} % | {worst_z:.2f} | {sidak_z:.2f} | {own_text} | {reg['degrees_of_freedom']:.0f} |")
 if maps:
     cols, rows = reg["regions"]

@@ -146,6 +146,14 @@ double rb_weight(double v_r, double v_d, double bias_squared) {
   const double total = v_r + v_d + bias_squared;
   return total > 0.0 ? v_d / total : 1.0;
 }
+// Both, for a region's variances and means of r and d.
+struct RbShareMix {
+  double bias_squared, lambda;
+};
+RbShareMix rb_share_mix(double v_r, double v_d, double r, double d) {
+  const double bias_squared = rb_bias_squared(v_r, v_d, r, d);
+  return RbShareMix{bias_squared, rb_weight(v_r, v_d, bias_squared)};
+}
 }  // namespace
 
 std::vector<double> RegionalError::rb_weights() const {
@@ -153,7 +161,7 @@ std::vector<double> RegionalError::rb_weights() const {
   if (!r_ || !d_) return out;
   const std::vector<double> v_r = variances(*r_), v_d = variances(*d_), r = means(*r_), d = means(*d_);
   for (std::size_t b = 0; b < out.size(); ++b)
-    if (!std::isnan(v_r[b] + v_d[b] + r[b] + d[b])) out[b] = rb_weight(v_r[b], v_d[b], rb_bias_squared(v_r[b], v_d[b], r[b], d[b]));
+    if (!std::isnan(v_r[b] + v_d[b] + r[b] + d[b])) out[b] = rb_share_mix(v_r[b], v_d[b], r[b], d[b]).lambda;
   return out;
 }
 
@@ -163,12 +171,12 @@ RegionalError::RbLevelVariances RegionalError::rb_level_relative_variances() con
   const std::vector<double> v_r = variances(*r_), v_d = variances(*d_), r = means(*r_), d = means(*d_);
   for (std::size_t b = 0; b < grid_.count(); ++b) {
     if (std::isnan(v_r[b] + v_d[b]) || !(r[b] > 0.0)) continue;
-    const double bias_squared = rb_bias_squared(v_r[b], v_d[b], r[b], d[b]);
-    const double lambda = rb_weight(v_r[b], v_d[b], bias_squared);
-    const double level = lambda * r[b] + (1.0 - lambda) * d[b];
+    const RbShareMix mix = rb_share_mix(v_r[b], v_d[b], r[b], d[b]);
+    const double lambda = mix.lambda, level = lambda * r[b] + (1.0 - lambda) * d[b];
     if (!(level > 0.0)) continue;
     out.rb[b] = v_r[b] / (r[b] * r[b]);
-    out.corrected[b] = (lambda * lambda * (v_r[b] + bias_squared) + (1.0 - lambda) * (1.0 - lambda) * v_d[b]) / (level * level);
+    // Var(λ r + (1 − λ) d) with RB's bias counted, over the level squared
+    out.corrected[b] = (lambda * lambda * (v_r[b] + mix.bias_squared) + (1.0 - lambda) * (1.0 - lambda) * v_d[b]) / (level * level);
   }
   return out;
 }
@@ -193,8 +201,8 @@ std::vector<double> RegionalError::standard_errors() const {
   for (std::size_t b = 0; b < n; ++b) {
     double v;
     if (field) {
-      const double bias_squared = rb_bias_squared(v_r[b], v_d[b], r[b], d[b]);
-      const double lambda = rb_weight(v_r[b], v_d[b], bias_squared);
+      const RbShareMix mix = rb_share_mix(v_r[b], v_d[b], r[b], d[b]);
+      const double lambda = mix.lambda, bias_squared = mix.bias_squared;
       const double cov_w_d = 0.5 * (v_u[b] - v_w[b] - v_d[b]);  // u = w + d
       // δ: the region's mean as written less the λ formula's (the w terms cancel)
       const double missed = rb_factors_[b] * r[b] - (lambda * r[b] + (1.0 - lambda) * d[b]);
