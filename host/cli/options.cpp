@@ -80,8 +80,8 @@ options:
                       (combined: RB on the first, PT on the others), or all  [first GPU, else CPU]
   --seed K            random seed: same seed, device and options, the same image bit for bit [1]
   --reference REF.exr report relMSE, RMSE and mean bias of every layer against REF
-  --stats FILE        write run statistics as JSON, with the estimated relMSE (noise only: it
-                      cannot see the ray bundles' discretisation bias)
+  --stats FILE        write run statistics as JSON, with the estimated relMSE (the noise, and
+                      the ray bundles' bias where the path tracer sees it)
   --checkpoint FILE   save the render's state to FILE every --checkpoint-every seconds and at
                       the end or on Ctrl-C
   --resume FILE       continue the render saved in FILE (same scene and options); --spp and

@@ -60,9 +60,15 @@ void print_summary(const RenderOptions& o, const RenderResult& r) {
                std::to_string(l.batches) + " batches of at least " + std::to_string(l.batch_rounds) +
                (l.batch_rounds == 1 ? " round" : " rounds");
   }
+  // RB's bias as far as PT sees it (ImageErrorEstimate::rb_bias_rel_mse): a combined render's.
+  char bias[96] = "";
+  if (r.rb_bias_rel_mse > 0.0)
+    std::snprintf(bias, sizeof bias, "; the ray bundles' bias, as the path tracer sees it: %.2g", r.rb_bias_rel_mse);
+  else if (r.rb_bias_rel_mse == 0.0)
+    std::snprintf(bias, sizeof bias, "; no ray-bundle bias seen");
   if (std::isfinite(r.estimated_rel_mse))
-    std::fprintf(stderr, "bundlepath: estimated relMSE %.3g%s (noise only: from %s)%s\n",
-                 r.estimated_rel_mse, r.frames.size() > 1 ? " (worst frame)" : "", batches.c_str(),
+    std::fprintf(stderr, "bundlepath: estimated relMSE %.3g%s (noise from %s%s)%s\n",
+                 r.estimated_rel_mse, r.frames.size() > 1 ? " (worst frame)" : "", batches.c_str(), bias,
                  o.target_error > 0.0 ? (r.outcome.target_reached ? ": --target-error reached"
                                                                   : ": --target-error not reached")
                                       : "");

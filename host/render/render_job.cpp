@@ -387,6 +387,7 @@ RenderResult RenderJob::run(RenderObserver& observer) {
   r.region_columns = s.first_view().regional_error->grid().columns;
   r.region_rows = s.first_view().regional_error->grid().rows;
   const ImageErrorEstimate& e = *s.first_view().error_estimate;
+  r.rb_bias_rel_mse = e.rb_bias_rel_mse();
   for (std::size_t l = 0; l < e.layers().size(); ++l)
     r.error_layers.push_back({e.layer_name(l), e.layers()[l].batches(), e.layers()[l].batch_rounds()});
   count_work(s, r);

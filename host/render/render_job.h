@@ -67,6 +67,7 @@ struct RenderResult {
   std::string exr_path, png_path;
   std::vector<std::pair<std::string, ErrorMetrics>> reference_metrics;  // per layer, with --reference
   double estimated_rel_mse = NAN;  // a walkthrough: its worst frame's
+  double rb_bias_rel_mse = NAN;    // the first view's part of it from RB's bias (ImageErrorEstimate); NaN: not checked
   // The regional error (image/regional_error.h): the expected worst region's relative error and the
   // grid (a walkthrough: its worst frame's); NaN before two batches.
   double expected_worst_region_error = NAN;
