@@ -14,6 +14,7 @@
 #include "shared/lights.h"
 #include "shared/textured.h"
 #include "shared/alpha_mask.h"
+#include "shared/through_panes.h"
 #include "scan.cl"
 
 #define BP_BACK_SIDE 0x80000000u
@@ -81,10 +82,11 @@ static PatchLightSample rb_light_sample(__global const BundleElement* e, float3 
   float cos_x = dot(n, ls.wi);
   if (!(cos_x > 0.0f) || ls.radiance_over_pdf.x + ls.radiance_over_pdf.y + ls.radiance_over_pdf.z <= 0.0f) return out;
   float t_max = ls.is_delta ? ls.distance : ls.distance - 4.0f * ray_epsilon;
-  if (t_max <= 0.0f ||
-      surface_occludes(nodes, triangles, shading, &light_set->textures, alpha_masks, x, ls.wi, t_max, ray_epsilon))
-    return out;
-  out.irradiance = ls.radiance_over_pdf * (cos_x / it->light_rate);  // L cos / p_solid, over the rate
+  if (t_max <= 0.0f) return out;
+  // through thin panes, attenuated (DESIGN.md §11), as PT's shadow rays
+  float3 through = shadow_transmittance(nodes, triangles, shading, materials, &light_set->textures, alpha_masks, x,
+                                        ls.wi, t_max, ray_epsilon);
+  out.irradiance = ls.radiance_over_pdf * through * (cos_x / it->light_rate);  // L cos / p_solid, over the rate
   return out;
 }
 
