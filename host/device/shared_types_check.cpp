@@ -28,7 +28,8 @@ static_assert(offsetof(BundleIteration, environment_width) == 128 && offsetof(Bu
               offsetof(BundleIteration, sun_own_samples) == 144);
 static_assert(offsetof(BundleIteration, omega_prev) == 64 && offsetof(BundleIteration, weight_ratio) == 88 &&
               offsetof(BundleIteration, omega_next) == 96);
-BP_CHECK_LAYOUT(EyeHit, 32);
+BP_CHECK_LAYOUT(EyeHit, 48);
+static_assert(offsetof(EyeHit, filter) == 32);
 
 #include "kernels/shared/lights.h"
 BP_CHECK_LAYOUT(Light, 112);
