@@ -108,5 +108,27 @@ TEST(GltfTransmission, BadValuesFailNamingTheMaterial) {
   EXPECT_EQ(load_with_materials(json::array({glass(1.0, {{"KHR_materials_ior", {{"ior", 0.0}}}})})).materials[1].ior, 0.0f);
 }
 
+// scenes/glass-window.gltf (scripts/make_glass_window_scene.py): a room lit only by a sun through a
+// glazed window; the pane is read as a clear thin pane and nothing is dropped.
+TEST(GltfTransmission, TheShippedGlassWindowSceneLoadsWithoutAWarning) {
+  const Scene s = load_gltf(test::scene_file("glass-window.gltf"));
+  EXPECT_TRUE(s.warnings.empty()) << s.warnings.front();
+  ASSERT_TRUE(s.has_transmission());
+  int panes = 0;
+  for (const SceneMaterial& m : s.materials) {
+    if (m.transmission == 0.0f) continue;
+    ++panes;
+    EXPECT_EQ(m.name, "glass");
+    EXPECT_FLOAT_EQ(m.transmission, 1.0f);
+    EXPECT_FLOAT_EQ(m.ior, 1.5f);
+    EXPECT_TRUE(m.double_sided);
+    EXPECT_EQ(m.kd, glm::vec3(0.0f));  // all pane, no opaque rest
+  }
+  EXPECT_EQ(panes, 1);
+  ASSERT_EQ(s.lights.size(), 1u);
+  EXPECT_EQ(s.lights[0].kind, ScenePunctualLight::Kind::directional);
+  EXPECT_EQ(s.emissive_triangles(), 0u);
+}
+
 }  // namespace
 }  // namespace bp
