@@ -14,6 +14,7 @@
 #include "shared/lights.h"
 #include "shared/textured.h"
 #include "shared/alpha_mask.h"
+#include "shared/through_panes.h"
 #include "scan.cl"
 
 #define BP_BACK_SIDE 0x80000000u
@@ -81,10 +82,11 @@ static PatchLightSample rb_light_sample(__global const BundleElement* e, float3 
   float cos_x = dot(n, ls.wi);
   if (!(cos_x > 0.0f) || ls.radiance_over_pdf.x + ls.radiance_over_pdf.y + ls.radiance_over_pdf.z <= 0.0f) return out;
   float t_max = ls.is_delta ? ls.distance : ls.distance - 4.0f * ray_epsilon;
-  if (t_max <= 0.0f ||
-      surface_occludes(nodes, triangles, shading, &light_set->textures, alpha_masks, x, ls.wi, t_max, ray_epsilon))
-    return out;
-  out.irradiance = ls.radiance_over_pdf * (cos_x / it->light_rate);  // L cos / p_solid, over the rate
+  if (t_max <= 0.0f) return out;
+  // through thin panes, attenuated (DESIGN.md §11), as PT's shadow rays
+  float3 through = shadow_transmittance(nodes, triangles, shading, materials, &light_set->textures, alpha_masks, x,
+                                        ls.wi, t_max, ray_epsilon);
+  out.irradiance = ls.radiance_over_pdf * through * (cos_x / it->light_rate);  // L cos / p_solid, over the rate
   return out;
 }
 
@@ -353,6 +355,71 @@ static float4 rb_environment_received(__global const BundleElement* elements, __
   return (float4)(env.x * w, env.y * w, env.z * w, 0.0f);
 }
 
+// Whether an element is (partly) a thin pane, which passes bundles straight through (DESIGN.md §11).
+static int rb_is_pane(__global const BundleElement* elements, __global const Material* materials, uint element) {
+  return BP_FEATURE_TRANSMISSION && (materials[elements[element].material].flags & BP_MATERIAL_THIN_TRANSMITTER);
+}
+
+// What the fragment at place a of a bin's depth order [first, last) receives in chain c when its
+// neighbour at a + step is a thin pane (DESIGN.md §11: a filter on the segment, not a vertex): the
+// light travels along `travel` (+omega from the fragments before a, step -1; -omega from those after,
+// step +1) to the receiving patch (its side with normal n_receiver). The pane's own outgoing radiance
+// (its opaque rest), plus through it, times its transmittance along omega, what arrives at the pane
+// from beyond, found the same way, up to an opaque sender, a contact, or the end of the bin (the
+// environment). Each sender weighted as the plain transfer weighs it (rb_direct_received at the
+// distance from a). .w (the paper's ln P): the brightest part's.
+static float4 rb_received_through_panes(__global const BundleElement* elements, __global const Material* materials,
+                                        __global const Material* patch_materials, uint uv_slots,
+                                        __global const uint* tile_order, __global const uint* tiled_element,
+                                        __global const float* tiled_depth, __global const float4* l_out,
+                                        const BundleIteration* it, const LightSet* light_set, uint first, uint last,
+                                        uint a, int step, uint c, uint direct, uint eye, int light_sampling,
+                                        int environment, uint receiver_patch, uint receiver_element,
+                                        float3 n_receiver, float3 travel) {
+  const float3 omega = bp_private3(it->omega);
+  const float depth_a = tiled_depth[tile_order[a]];
+  float3 sum = make_float3(0.0f, 0.0f, 0.0f), through = make_float3(1.0f, 1.0f, 1.0f);
+  float w = BP_NO_SENDER, brightest = -1.0f;
+  uint k = a;
+  for (uint crossings = 0u; crossings <= BP_MAX_PANE_CROSSINGS; ++crossings) {
+    float4 r = (float4)(0.0f, 0.0f, 0.0f, BP_NO_SENDER);
+    const int end = step < 0 ? k == first : k + 1u == last;
+    if (end && environment)  // nothing beyond: the environment
+      r = rb_environment_received(elements, materials, patch_materials, uv_slots, receiver_patch, receiver_element,
+                                  n_receiver, travel, c, direct, eye, light_sampling, it, light_set);
+    uint next = 0u, element = 0u;
+    float depth = 0.0f;
+    if (!end) {
+      next = step < 0 ? k - 1u : k + 1u;
+      element = tiled_element[tile_order[next]];
+      depth = tiled_depth[tile_order[next]];
+      // a pane touching the next fragment is covered on that side: nothing comes through it
+      if (k != a && fabs(depth - tiled_depth[tile_order[k]]) < it->contact_depth) break;
+      uint minus_side, plus_side;
+      sides_along(&elements[element], omega, &minus_side, &plus_side);
+      const uint sender = step < 0 ? plus_side : minus_side;  // the side facing the receiver
+      if (sender != BP_NO_PATCH && (c == direct || c == eye) && receiver_patch != BP_NO_PATCH)
+        r = rb_direct_received(elements, materials, patch_materials, uv_slots, element, receiver_element, n_receiver,
+                               travel, fabs(depth_a - depth), c == eye, it, light_set, sender, receiver_patch);
+      else if (sender != BP_NO_PATCH && c != direct && c != eye)
+        r = l_out[sender * it->chains + c];
+    }
+    float3 part = through * make_float3(r.x, r.y, r.z);
+    float brightness = part.x + part.y + part.z;
+    if (brightness > brightest) {
+      brightest = brightness;
+      w = r.w;
+    }
+    sum += part;
+    if (end || !rb_is_pane(elements, materials, element)) break;
+    through *= pane_optics(&materials[elements[element].material], dot(bp_load3(elements[element].normal), omega))
+                   .transmittance;
+    if (through.x + through.y + through.z <= 0.0f) break;
+    k = next;
+  }
+  return (float4)(sum.x, sum.y, sum.z, w);
+}
+
 // 4. Resolve one tile: counting sort of its fragments by bin (private counters), depth sort per bin,
 //    then the transfer: consecutive fragments exchange radiance. The side of a fragment facing
 //    -omega receives what the previous fragment sends along +omega, the other side what the next
@@ -413,6 +480,10 @@ __kernel void rb_tile_resolve(__global const BundleElement* elements, __global c
         float4 r = nothing;
         if (touches_sender)
           r.w = BP_CONTACT;
+        else if (a > first && rb_is_pane(elements, materials, sender_element))
+          r = rb_received_through_panes(elements, materials, patch_materials, uv_slots, tile_order, tiled_element,
+                                        tiled_depth, l_out, &it, &light_set_, first, last, a, -1, c, direct, eye,
+                                        light_sampling, environment, minus_patch, element, facing(-omega, n), omega);
         else if (environment && a == first)  // nothing in front along -omega: the environment
           r = rb_environment_received(elements, materials, patch_materials, uv_slots, minus_patch, element,
                                       facing(-omega, n), omega, c, direct, eye,
@@ -443,6 +514,10 @@ __kernel void rb_tile_resolve(__global const BundleElement* elements, __global c
         float4 r = nothing;
         if (touches_next)
           r.w = BP_CONTACT;
+        else if (a + 1 < last && rb_is_pane(elements, materials, next_element))
+          r = rb_received_through_panes(elements, materials, patch_materials, uv_slots, tile_order, tiled_element,
+                                        tiled_depth, l_out, &it, &light_set_, first, last, a, 1, c, direct, eye,
+                                        light_sampling, environment, own_plus, element, facing(omega, n), -omega);
         else if (environment && a + 1 == last)  // nothing in front along +omega: the environment
           r = rb_environment_received(elements, materials, patch_materials, uv_slots, own_plus, element,
                                       facing(omega, n), -omega, c, direct, eye,
@@ -529,13 +604,19 @@ __kernel void rb_eye_hits(__global const BvhNode* nodes, __global const BvhTrian
   out.element = BP_NO_PATCH;  // the ray leaves the scene: it sees the environment
   out.l1 = out.l2 = 0.0f;
   out.wo[0] = -dir.x; out.wo[1] = -dir.y; out.wo[2] = -dir.z;
-  out.pad0 = 0.0f;
+  out.pad0 = out.pad1 = 0.0f;
   Hit hit;
   float3 shading_normal = make_float3(0.0f, 0.0f, 1.0f);
   float4 texel_kd = (float4)(0.0f), texel_ks = (float4)(0.0f), texel_emission = (float4)(0.0f);  // .w of ks: 0 untextured
   const TextureSet mask_textures = {texture_views, texels, material_textures, texcoords, uv_slots};
-  if (closest_surface_hit(nodes, triangles, shading, &mask_textures, alpha_masks, origin, dir, BP_FLOAT_MAX, ray_epsilon,
-                          &hit)) {
+  // through thin panes (DESIGN.md §11): the eye sees what is behind a pane, attenuated, or the pane's
+  // opaque rest; never its mirror, which is PT's alone
+  float3 filter = make_float3(1.0f, 1.0f, 1.0f);
+  uint pane_event, rays = 0u;
+  const int hits_surface = closest_hit_through_panes(nodes, triangles, shading, materials, &mask_textures, alpha_masks,
+                                                     origin, dir, ray_epsilon, 0, &rng, &filter, &pane_event, &hit, &rays);
+  out.filter[0] = filter.x; out.filter[1] = filter.y; out.filter[2] = filter.z;
+  if (hits_surface) {
     SurfaceHit s = surface_at_shaded(shading, shading_normals, has_normals, hit.triangle, hit.b1, hit.b2,
                                      origin + dir * hit.t, dir);
     shading_normal = s.shading_normal;
@@ -689,7 +770,8 @@ __kernel void rb_eye(__global const EyeHit* hits, __global const BundleElement* 
     // The environment seen from the eye, weighted as an emitter the eye sees (in blocks: rb_eye_block).
     if (h.element != BP_NO_PATCH || eye_blocks) return;
     float3 env;
-    float3 weighted = eye_environment(&h, &it, environment_texels, &env);
+    float3 weighted = eye_environment(&h, &it, environment_texels, &env) * bp_private3(h.filter);
+    env *= bp_private3(h.filter);
     if (env.x + env.y + env.z <= 0.0f) return;
     pixel_sum[pixel * it.eye_outputs] += (float4)(weighted.x, weighted.y, weighted.z, 0.0f);
     if (it.eye_outputs > 1) pixel_sum[pixel * it.eye_outputs + 1] += (float4)(env.x, env.y, env.z, 0.0f);
@@ -734,6 +816,8 @@ __kernel void rb_eye(__global const EyeHit* hits, __global const BundleElement* 
   } else {
     weighted = bsdf.emission + reflected0;
   }
+  const float3 filter = bp_private3(h.filter);  // the panes in front of the eye vertex
+  weighted *= filter;
   pixel_sum[pixel * it.eye_outputs] += (float4)(weighted.x, weighted.y, weighted.z, 0.0f);
   if (it.eye_outputs > 1) {
     float3 raw = bsdf.emission + reflected0;
@@ -742,6 +826,7 @@ __kernel void rb_eye(__global const EyeHit* hits, __global const BundleElement* 
                                  slots, it.chains - 1u);
       raw = bsdf.emission + transfer * make_float3(e1.x, e1.y, e1.z);
     }
+    raw *= filter;
     pixel_sum[pixel * it.eye_outputs + 1] += (float4)(raw.x, raw.y, raw.z, 0.0f);
   }
 }
@@ -826,6 +911,8 @@ __kernel void rb_eye_block(__global const EyeHit* hits, __global const BundleEle
     weighted = emission_weighted * iterations + f * make_float3(block.x, block.y, block.z);
     raw = bsdf.emission * iterations + f * make_float3(block_raw.x, block_raw.y, block_raw.z);
   }
+  weighted *= bp_private3(h.filter);  // the panes in front of the eye vertex
+  raw *= bp_private3(h.filter);
   pixel_sum[pixel * it.eye_outputs] += (float4)(weighted.x, weighted.y, weighted.z, 0.0f);
   if (it.eye_outputs > 1) pixel_sum[pixel * it.eye_outputs + 1] += (float4)(raw.x, raw.y, raw.z, 0.0f);
 }

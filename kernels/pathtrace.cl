@@ -11,6 +11,7 @@
 #include "shared/lights.h"
 #include "shared/textured.h"
 #include "shared/alpha_mask.h"
+#include "shared/through_panes.h"
 
 typedef struct {
   BP_GLOBAL const BvhNode* nodes;
@@ -84,14 +85,17 @@ static void add_light_sample(const SceneRefs* scene, const PathTraceParams* para
   // An area light's own surface is at ls.distance: stop the shadow ray a few offsets short of it.
   float t_max = ls.is_delta ? ls.distance : ls.distance - 4.0f * params->ray_epsilon;
   *rays += 1u;
-  if (t_max <= 0.0f || surface_occludes(scene->nodes, scene->triangles, scene->shading, &scene->lights.textures,
-                                        scene->alpha_masks, x, ls.wi, t_max, params->ray_epsilon))
-    return;
+  if (t_max <= 0.0f) return;
+  // through thin panes, attenuated (DESIGN.md §11): the same weights as without them
+  float3 through = shadow_transmittance(scene->nodes, scene->triangles, scene->shading, scene->materials,
+                                        &scene->lights.textures, scene->alpha_masks, x, ls.wi, t_max,
+                                        params->ray_epsilon);
+  if (through.x + through.y + through.z <= 0.0f) return;
   BsdfValue v = bsdf_evaluate(bsdf, surface->shading_normal, ls.wi, wo);
   float pdf_bsdf = bsdf->continuation * v.pdf_uv;  // s p_b
   float pdf_bsdf_patch = bsdf->continuation * pdf_uv_patch(surface, bsdf, ls.wi, wo, v.pdf_uv);
   // f cos L / p_solid  (the light-sampling estimator of the rendering equation's integral)
-  float3 contribution = throughput * v.f * ls.radiance_over_pdf * cos_shading;
+  float3 contribution = throughput * through * v.f * ls.radiance_over_pdf * cos_shading;
   LastSegmentWeights w = pt_last_segment_weights(params, depth, prefix_beta, pdf_bsdf_patch, pdf_bsdf,
                                                  eye_direct_proxy_pdf_uv(bsdf, cos_x), ls.pdf_uv, ls.is_delta);
   // --rb-sun own: RB's patches also take samples of the sun of their own, at every vertex but the
@@ -116,7 +120,7 @@ static void add_light_sample(const SceneRefs* scene, const PathTraceParams* para
 static void add_environment(const SceneRefs* scene, const PathTraceParams* params, const PathPdf* pdf, bp_u32 depth,
                             float3 dir, float3 throughput, int light_sampling, float last_prefix_beta,
                             float last_pdf_bsdf_patch, float last_pdf_bsdf, float last_pdf_proxy, bp_u32 last_patch,
-                            PathRadiance* radiance) {
+                            int last_delta, PathRadiance* radiance) {
   float3 seen = throughput * environment_radiance(&scene->lights.environment, dir);
   if (seen.x + seen.y + seen.z <= 0.0f) return;
   if (!light_sampling) {
@@ -126,7 +130,8 @@ static void add_environment(const SceneRefs* scene, const PathTraceParams* param
     radiance->raw += seen;
     radiance->weighted += seen;
   } else {
-    float pdf_light = light_pdf_uv_environment(&scene->lights, last_patch, params->environment_light, dir);
+    float pdf_light =
+        last_delta ? 0.0f : light_pdf_uv_environment(&scene->lights, last_patch, params->environment_light, dir);
     LastSegmentWeights w = pt_last_segment_weights(params, depth - 1u, last_prefix_beta, last_pdf_bsdf_patch,
                                                    last_pdf_bsdf, last_pdf_proxy, pdf_light, 0);
     LastSegmentWeights alone =
@@ -151,17 +156,34 @@ static PathRadiance trace_path(const SceneRefs* scene, const PathTraceParams* pa
   // eye vertex's proxy density of dir.
   float last_prefix_beta = 0.0f, last_pdf_bsdf = 0.0f, last_pdf_bsdf_patch = 0.0f, last_pdf_proxy = 0.0f;
   bp_u32 last_patch = 0u;  // and its patch
+  int last_delta = 0;      // 1: dir was sampled by a pane's mirror, a delta no light sample reaches (p_L 0)
   for (bp_u32 depth = 0; depth < params->max_depth; ++depth) {
     Hit hit;
     *rays += 1u;
-    if (!closest_surface_hit(scene->nodes, scene->triangles, scene->shading, &scene->lights.textures, scene->alpha_masks,
-                             origin, dir, BP_FLOAT_MAX, params->ray_epsilon, &hit)) {
+    bp_u32 pane_event;  // through thin panes: passed (throughput times their transmittance), or stopped at one
+    if (!closest_hit_through_panes(scene->nodes, scene->triangles, scene->shading, scene->materials,
+                                   &scene->lights.textures, scene->alpha_masks, origin, dir, params->ray_epsilon, 1,
+                                   rng, &throughput, &pane_event, &hit, rays)) {
       add_environment(scene, params, &pdf, depth, dir, throughput, light_sampling, last_prefix_beta,
-                      last_pdf_bsdf_patch, last_pdf_bsdf, last_pdf_proxy, last_patch, &radiance);
+                      last_pdf_bsdf_patch, last_pdf_bsdf, last_pdf_proxy, last_patch, last_delta, &radiance);
       break;
     }
     SurfaceHit surface = surface_at_shaded(scene->shading, scene->shading_normals, params->shading_normals,
                                            hit.triangle, hit.b1, hit.b2, origin + dir * hit.t, dir);
+    if (BP_FEATURE_TRANSMISSION && pane_event == BP_PANE_MIRROR) {
+      // The pane's mirror (DESIGN.md §11), throughput already times F T / P(mirror): a delta vertex,
+      // PT's alone. beta 0 (w_RB = 0 from here on), no light sample, and the vertex after it sees
+      // emitters by this direction alone: p_L 0 and any positive s p_b in the last-segment split.
+      if (params->weight_mode == BP_WEIGHTS_PAPER) path_pdf_step(&pdf, 1.0f, BP_FLOAT_MAX);  // P* infinite: w_PT 1
+      if (params->weight_mode == BP_WEIGHTS_PRODUCT) path_pdf_multiply_beta(&pdf, 0.0f);
+      last_prefix_beta = 0.0f;
+      last_pdf_bsdf = last_pdf_bsdf_patch = 1.0f;
+      last_delta = 1;
+      last_patch = surface.patch;
+      origin = surface.position + surface.normal * params->ray_epsilon;
+      dir = reflect_about(-dir, surface.normal);
+      continue;
+    }
     if (!surface.reflects && !(scene->materials[surface.material].flags & BP_MATERIAL_DOUBLE_SIDED)) break;
     Bsdf bsdf = pt_bsdf(scene, &surface, &hit);
     float3 wo = -dir;
@@ -177,9 +199,10 @@ static PathRadiance trace_path(const SceneRefs* scene, const PathTraceParams* pa
       radiance.raw += emitted;
       radiance.weighted += emitted;
     } else if (emits) {
-      float pdf_light = light_pdf_uv_area(
-          light_pdf_area_from(&scene->lights, scene->materials, last_patch, surface.patch, surface.material), hit.t,
-          dot(surface.normal, wo));
+      float pdf_light = last_delta ? 0.0f
+                                   : light_pdf_uv_area(light_pdf_area_from(&scene->lights, scene->materials, last_patch,
+                                                                           surface.patch, surface.material),
+                                                       hit.t, dot(surface.normal, wo));
       LastSegmentWeights w = pt_last_segment_weights(params, depth - 1u, last_prefix_beta, last_pdf_bsdf_patch,
                                                      last_pdf_bsdf, last_pdf_proxy, pdf_light, 0);
       LastSegmentWeights alone =
@@ -212,6 +235,7 @@ static PathRadiance trace_path(const SceneRefs* scene, const PathTraceParams* pa
     last_pdf_bsdf_patch = bsdf.continuation * pdf_patch;
     if (depth == 0u) last_pdf_proxy = eye_direct_proxy_pdf_uv(&bsdf, cos_geometric);
     last_patch = surface.patch;
+    last_delta = 0;
     // Only the weights of the mode need the pdf state: q and r for paper, prod beta for product.
     if (params->weight_mode == BP_WEIGHTS_PAPER) path_pdf_step(&pdf, bsdf.continuation, pdf_patch);
     if (params->weight_mode == BP_WEIGHTS_PRODUCT)

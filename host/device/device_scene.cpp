@@ -19,6 +19,12 @@ std::vector<Material> pack_materials(const Scene& scene, const LightList& lights
     p.shininess = m.shininess;
     p.light_pdf_area = lights.material_pdf_area.empty() ? 0.0f : lights.material_pdf_area[out.size()];
     p.flags = m.double_sided ? BP_MATERIAL_DOUBLE_SIDED : 0u;
+    if (m.transmission > 0.0f) {
+      p.flags |= BP_MATERIAL_THIN_TRANSMITTER;
+      for (int c = 0; c < 3; ++c) p.transmission_tint[c] = m.transmission_tint[c] * m.transmission;
+      p.transmission = m.transmission;
+    }
+    p.ior = m.ior;
     out.push_back(p);
   }
   return out;

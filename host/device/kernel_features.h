@@ -12,6 +12,7 @@ struct KernelFeatures {
   bool shading_normals = true; // interpolated NORMAL corners (kernels/shared/surface.h); off: flat normals only
   bool textures = true;        // glTF textures (kernels/shared/texture.h); off: every material is its factors
   bool environment = true;     // an environment light (kernels/shared/environment_map.h); off: rays leave into black
+  bool transmission = true;    // thin-walled transmitters (kernels/shared/thin_glass.h); off: every surface is opaque
 };
 
 // What `scene` needs when light sampling is `light_sampling`.

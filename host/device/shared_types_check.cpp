@@ -7,8 +7,10 @@
   static_assert(sizeof(T) == (size), #T " changed size: update the kernels and this check"); \
   static_assert(sizeof(T) % 16 == 0, #T " must be a multiple of 16 bytes")
 
-BP_CHECK_LAYOUT(Material, 48);
+BP_CHECK_LAYOUT(Material, 80);
 static_assert(offsetof(Material, ks) == 16 && offsetof(Material, emission) == 32);
+static_assert(offsetof(Material, transmission_tint) == sizeof(Material) - 32 && offsetof(Material, ior) == sizeof(Material) - 16,
+              "the transmission fields end Material");
 BP_CHECK_LAYOUT(TriangleShading, 32);
 static_assert(offsetof(TriangleShading, material) == 12 && offsetof(TriangleShading, area) == 24);
 BP_CHECK_LAYOUT(CameraParams, 64);
@@ -26,7 +28,8 @@ static_assert(offsetof(BundleIteration, environment_width) == 128 && offsetof(Bu
               offsetof(BundleIteration, sun_own_samples) == 144);
 static_assert(offsetof(BundleIteration, omega_prev) == 64 && offsetof(BundleIteration, weight_ratio) == 88 &&
               offsetof(BundleIteration, omega_next) == 96);
-BP_CHECK_LAYOUT(EyeHit, 32);
+BP_CHECK_LAYOUT(EyeHit, 48);
+static_assert(offsetof(EyeHit, filter) == 32);
 
 #include "kernels/shared/lights.h"
 BP_CHECK_LAYOUT(Light, 112);

@@ -650,7 +650,72 @@ class Loader {
         w << obj << ": kd + ks reaches " << max_albedo << " > 1; kd and ks scaled down to keep energy";
         scene_.warnings.push_back(w.str());
       }
+      read_transmission(m, obj, out);
       scene_.materials.push_back(out);
+    }
+  }
+
+  // A number of an extension, `fallback` where absent; fail(obj ...) where it is not a number.
+  double extension_number(const tinygltf::Material& m, const std::string& obj, const char* name, const char* key,
+                          double fallback) const {
+    const auto* v = extension(m.extensions, name, key);
+    if (!v) return fallback;
+    if (!v->IsNumber()) fail(obj + " " + name + "." + key + " is not a number");
+    return v->GetNumberAsDouble();
+  }
+
+  // KHR_materials_transmission with KHR_materials_ior, thin-walled (DESIGN.md §11): the share
+  // T (1 - metallic) of the surface becomes a pane (kernels/shared/thin_glass.h) and kd, ks the opaque
+  // rest, scaled by 1 - that share. What the pane cannot be -- a volume, a textured T or colour, a
+  // rough pane, an emitting one -- is said per material.
+  void read_transmission(const tinygltf::Material& m, const std::string& obj, SceneMaterial& out) {
+    const bool has_volume = m.extensions.count("KHR_materials_volume") > 0;
+    if (!m.extensions.count("KHR_materials_transmission")) {
+      if (has_volume) scene_.warnings.push_back(obj + ": KHR_materials_volume without KHR_materials_transmission; ignored");
+      return;
+    }
+    const double factor = extension_number(m, obj, "KHR_materials_transmission", "transmissionFactor", 0.0);
+    if (!(factor >= 0.0 && factor <= 1.0))
+      fail(obj + " KHR_materials_transmission.transmissionFactor is " + std::to_string(factor) + " (must be in [0, 1])");
+    const double ior = extension_number(m, obj, "KHR_materials_ior", "ior", 1.5);
+    if (!(ior == 0.0 || (ior >= 1.0 && std::isfinite(ior))))
+      fail(obj + " KHR_materials_ior.ior is " + std::to_string(ior) + " (must be 0 or at least 1)");
+    const double thickness = extension_number(m, obj, "KHR_materials_volume", "thicknessFactor", 0.0);
+    if (!(thickness >= 0.0 && std::isfinite(thickness)))
+      fail(obj + " KHR_materials_volume.thicknessFactor is " + std::to_string(thickness) + " (must be >= 0)");
+    if (extension(m.extensions, "KHR_materials_transmission", "transmissionTexture"))
+      scene_.warnings.push_back(obj + ": KHR_materials_transmission.transmissionTexture ignored; transmissionFactor " +
+                                std::to_string(factor) + " used everywhere");
+    const auto& pbr = m.pbrMetallicRoughness;
+    const double metallic = member(m.extras, "phong") ? 0.0 : pbr.metallicFactor;  // metal does not transmit
+    const float share = float(factor * (1.0 - metallic));
+    if (!(share > 0.0f)) return;
+    if (out.emission.x > 0.0f || out.emission.y > 0.0f || out.emission.z > 0.0f) {
+      scene_.warnings.push_back(obj + " emits: KHR_materials_transmission ignored (an emitter is opaque)");
+      return;
+    }
+    if (has_volume && thickness > 0.0)
+      scene_.warnings.push_back(obj + ": KHR_materials_volume (thickness " + std::to_string(thickness) +
+                                ") not refracted; rendered as a thin-walled pane");
+    if (pbr.roughnessFactor > 0.0)
+      scene_.warnings.push_back(obj + ": roughness " + std::to_string(pbr.roughnessFactor) +
+                                " of a transmitter; its pane passes light straight through and mirrors the rest");
+    if (pbr.baseColorTexture.index >= 0)
+      scene_.warnings.push_back(obj + ": the pane's colour is baseColorFactor; baseColorTexture tints only the opaque rest");
+    if (m.extensions.count("KHR_materials_specular"))
+      scene_.warnings.push_back(obj + ": the pane's Fresnel reflection ignores KHR_materials_specular");
+    if (pbr.baseColorFactor.size() >= 3)
+      out.transmission_tint = glm::vec3(float(pbr.baseColorFactor[0]), float(pbr.baseColorFactor[1]),
+                                        float(pbr.baseColorFactor[2]));
+    out.transmission = share;
+    out.ior = float(ior);
+    // the opaque rest: 1 - share of the BSDF, its texels too (the colour and F0 factors they multiply)
+    const float rest = 1.0f - share;
+    out.kd *= rest;
+    out.ks *= rest;
+    for (int c = 0; c < 3; ++c) {
+      out.textures.base_color_factor[c] *= rest;
+      out.textures.specular_f0[c] *= rest;
     }
   }
 

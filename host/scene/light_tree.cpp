@@ -1,4 +1,5 @@
 #include "scene/light_tree.h"
+#include "kernels/shared/through_panes.h"
 
 #include <algorithm>
 #include <array>
@@ -290,8 +291,22 @@ glm::dvec2 visibility_point(int j) {
 // share of kVisibilityRays rays from points spread over the patch (offset along n) that leave the
 // scene -- towards a sun, or along cosine-distributed directions for the environment -- averaged
 // with the lights' power shares, at least 1 / kVisibilityRays.
+// Whether a ray leaves the scene, passing thin panes (DESIGN.md §11: a sun reaches the room through
+// its windows), which it crosses at most BP_MAX_PANE_CROSSINGS of.
+bool escapes_through_panes(const FlatBvh& bvh, const Scene& scene, float3 origin, float3 dir, float step) {
+  if (!scene.has_transmission())
+    return !bvh_occluded(bvh.nodes.data(), bvh.triangles.data(), origin, dir, BP_FLOAT_MAX);
+  for (std::uint32_t k = 0; k <= BP_MAX_PANE_CROSSINGS; ++k) {
+    Hit hit;
+    if (!bvh_closest_hit(bvh.nodes.data(), bvh.triangles.data(), origin, dir, BP_FLOAT_MAX, &hit)) return true;
+    if (!(scene.materials[scene.triangles[hit.triangle].material].transmission > 0.0f)) return false;
+    origin = origin + dir * (hit.t + step);
+  }
+  return false;
+}
+
 float infinite_visibility(const glm::dvec3 c[3], const glm::dvec3& n, const LightList& lights, const FlatBvh& bvh,
-                          float offset) {
+                          const Scene& scene, float offset) {
   double seen = 0.0, share = 0.0;
   const glm::dvec3 helper = std::abs(n.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
   const glm::dvec3 t = glm::normalize(glm::cross(n, helper)), b = glm::cross(n, t);
@@ -308,8 +323,8 @@ float infinite_visibility(const glm::dvec3 c[3], const glm::dvec3& n, const Ligh
       const glm::dvec3 dir = l.type == BP_LIGHT_DIRECTIONAL
                                  ? to_sun
                                  : t * (root * std::cos(phi)) + b * (root * std::sin(phi)) + n * std::sqrt(1.0 - u.x);
-      escaped += !bvh_occluded(bvh.nodes.data(), bvh.triangles.data(), make_float3(float(p.x), float(p.y), float(p.z)),
-                               make_float3(float(dir.x), float(dir.y), float(dir.z)), BP_FLOAT_MAX);
+      escaped += escapes_through_panes(bvh, scene, make_float3(float(p.x), float(p.y), float(p.z)),
+                                       make_float3(float(dir.x), float(dir.y), float(dir.z)), offset);
     }
     seen += double(l.select_probability) * escaped / kVisibilityRays;
     share += double(l.select_probability);
@@ -346,7 +361,7 @@ std::vector<LightReceiver> build_light_receivers(const Scene& scene, const Patch
       rec.radius = r;
       rec.light = light;
       rec.infinite_visibility =
-          infinite && bvh ? infinite_visibility(c, glm::dvec3(side == 0 ? sub.normal : -sub.normal), lights, *bvh, offset)
+          infinite && bvh ? infinite_visibility(c, glm::dvec3(side == 0 ? sub.normal : -sub.normal), lights, *bvh, scene, offset)
                           : 1.0f;
     }
   });

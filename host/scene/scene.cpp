@@ -24,6 +24,10 @@ bool Scene::has_alpha_masks() const {
                      [](const SceneMaterial& m) { return m.textured() && m.textures.alpha_cutoff > 0.0f; });
 }
 
+bool Scene::has_transmission() const {
+  return std::any_of(materials.begin(), materials.end(), [](const SceneMaterial& m) { return m.transmission > 0.0f; });
+}
+
 MaterialTextures SceneMaterial::untextured() {
   MaterialTextures t{};
   t.base_color = t.metallic_roughness = t.emissive = BP_NO_TEXTURE;

@@ -20,6 +20,12 @@ struct SceneMaterial {
   float shininess = 1.0f;      // Phong exponent n
   glm::vec3 emission{0.0f};    // radiance Le, W sr^-1 m^-2 (front side; both if double_sided)
   bool double_sided = false;
+  // KHR_materials_transmission, thin-walled (DESIGN.md §11): the share `transmission` of the surface is
+  // a pane that passes (1 - F) transmission_tint straight through and mirrors F transmission, F by the
+  // ior (kernels/shared/thin_glass.h); kd and ks above are the opaque rest, scaled by 1 - transmission.
+  float transmission = 0.0f;
+  glm::vec3 transmission_tint{1.0f};  // baseColor (factor): the pane's colour
+  float ior = 1.5f;
   // glTF textures and the factors they multiply (kernels/shared/texture.h); kd, ks, shininess and
   // emission above are the factors' values, what the material is where no texture says otherwise.
   MaterialTextures textures = untextured();
@@ -82,6 +88,7 @@ struct Scene {
   bool has_shading_normals() const;      // some triangle has NORMAL corners
   bool has_textures() const;             // some material has a texture
   bool has_alpha_masks() const;          // some material has alphaMode MASK with a texture
+  bool has_transmission() const;         // some material is a thin transmitter (transmission > 0)
   // The environment as the kernels see it: the EXR's map, else the uniform radiance's 1x1 map.
   std::shared_ptr<const EnvironmentImage> environment_map() const {
     return environment_image ? environment_image : std::make_shared<const EnvironmentImage>(uniform_environment(environment));

@@ -81,6 +81,8 @@ typedef struct {
   float l1, l2;           // barycentrics within the element (weights of its corners 1 and 2)
   float wo[3];            // towards the eye
   float pad0;
+  float filter[3];        // the thin panes the eye ray passed (through_panes.h): their transmittance / P(pass),
+  float pad1;             //   and 1 / P(rest) where it stopped at a pane's opaque rest; 1 without panes
 } EyeHit;
 
 #endif  // BP_SHARED_BUNDLE_TYPES_H

@@ -106,6 +106,9 @@ inline float3 fmin(float3 a, float3 b) { return {std::fmin(a.x, b.x), std::fmin(
 #ifndef BP_FEATURE_ENVIRONMENT
 #define BP_FEATURE_ENVIRONMENT 1
 #endif
+#ifndef BP_FEATURE_TRANSMISSION
+#define BP_FEATURE_TRANSMISSION 1
+#endif
 
 #define BP_PI 3.14159265358979323846f
 #define BP_TWO_PI 6.28318530717958647692f

@@ -5,6 +5,7 @@
 #include "shared/compat.h"
 
 #define BP_MATERIAL_DOUBLE_SIDED 1u
+#define BP_MATERIAL_THIN_TRANSMITTER 4u  // KHR_materials_transmission, thin-walled (kernels/shared/thin_glass.h)
 
 // Modified Phong material (DESIGN.md §6): f = kd/pi + ks (n+2)/(2 pi) cos^n(alpha); Le one-sided.
 typedef struct {
@@ -14,6 +15,13 @@ typedef struct {
   bp_u32 flags;          // BP_MATERIAL_*
   float emission[3];     // radiance Le, W sr^-1 m^-2
   float light_pdf_area;  // light sampling's density on this material's emitters: P(select) / area, m^-2 (lights.h)
+  // A thin-walled transmitter (BP_MATERIAL_THIN_TRANSMITTER, DESIGN.md §11): the share `transmission`
+  // of the surface is a pane (thin_glass.h); kd and ks above are the opaque rest, already scaled by
+  // 1 - transmission at load (gltf_loader.cpp, read_transmission).
+  float transmission_tint[3];  // baseColor x transmission: the pane's straight-through filter before Fresnel
+  float transmission;          // the pane's share T of the surface (its mirror reflects F T)
+  float ior;                   // of the pane's Fresnel F0 (KHR_materials_ior)
+  float pad_transmission[3];
 } Material;
 
 // What shading needs of a triangle besides its geometry (the BVH owns the geometry).
