@@ -20,8 +20,17 @@ struct SceneMaterial {
   float shininess = 1.0f;      // Phong exponent n
   glm::vec3 emission{0.0f};    // radiance Le, W sr^-1 m^-2 (front side; both if double_sided)
   bool double_sided = false;
-  // glTF textures and the factors they multiply (kernels/shared/texture.h); kd, ks, shininess and
-  // emission above are the factors' values, what the material is where no texture says otherwise.
+  // glTF's metallic-roughness BRDF (kernels/shared/metallic_roughness.h) when `ggx`; kd, ks and
+  // shininess are then unused. Without it the material is Modified Phong (extras.phong, Lambert).
+  bool ggx = false;
+  glm::vec3 base_color{1.0f};
+  float metallic = 1.0f;
+  float roughness = 1.0f;              // perceptual; the GGX alpha is its square
+  glm::vec3 dielectric_f0{0.04f};      // min(((ior - 1)/(ior + 1))^2 specularColor, 1)
+  float specular_weight = 1.0f;        // KHR_materials_specular's specular
+  // glTF textures and the factors they multiply (kernels/shared/texture.h); base colour, metallic,
+  // roughness, emission (and kd of a Lambert one) above are the factors' values, what the material
+  // is where no texture says otherwise.
   MaterialTextures textures = untextured();
   bool textured() const { return material_is_textured(&textures); }
   static MaterialTextures untextured();
