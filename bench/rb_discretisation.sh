@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # RB's discretisation error on the Cornell box: --mode rb at shrinking patch sizes against a long
 # path-traced reference (cached under ~/.cache/bundlepath/references). Prints a Markdown table.
-# Usage: bench/rb_discretisation.sh [ITERATIONS] [REFERENCE_SPP] [SIZE]    (defaults 20000, 32768, 64)
+# Usage: [SCENE=scenes/cornell-ggx.gltf] bench/rb_discretisation.sh [ITERATIONS] [REFERENCE_SPP] [SIZE]
+#        (defaults: scenes/cornell-box.gltf, 20000, 32768, 64)
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 # shellcheck source=bench/lib.sh
@@ -9,7 +10,7 @@ source "$here/lib.sh"
 cd "$bench_root"
 iterations=${1:-20000}
 ref_spp=${2:-32768}
-scene=scenes/cornell-box.gltf
+scene=${SCENE:-scenes/cornell-box.gltf}
 size=${3:-64}
 ref=$(bench_reference "$scene" "$ref_spp" "$size")
 ref=${ref%.exr}

@@ -607,7 +607,8 @@ __kernel void rb_eye_hits(__global const BvhNode* nodes, __global const BvhTrian
   out.pad0 = out.pad1 = 0.0f;
   Hit hit;
   float3 shading_normal = make_float3(0.0f, 0.0f, 1.0f);
-  float4 texel_kd = (float4)(0.0f), texel_ks = (float4)(0.0f), texel_emission = (float4)(0.0f);  // .w of ks: 0 untextured
+  // the texel's base colour (.w metallic), roughness (.w: 1, 0 untextured) and emission
+  float4 texel_base = (float4)(0.0f), texel_roughness = (float4)(0.0f), texel_emission = (float4)(0.0f);
   const TextureSet mask_textures = {texture_views, texels, material_textures, texcoords, uv_slots};
   // through thin panes (DESIGN.md §11): the eye sees what is behind a pane, attenuated, or the pane's
   // opaque rest; never its mirror, which is PT's alone
@@ -631,16 +632,16 @@ __kernel void rb_eye_hits(__global const BvhNode* nodes, __global const BvhTrian
         // the eye gather reflects with the texel at the hit (DESIGN.md §6), its weights with the patch's mean
         const TextureSet textures = {texture_views, texels, material_textures, texcoords, uv_slots};
         TexelMaterial tm = texel_material(&textures, &mt, hit.triangle, hit.b1, hit.b2);
-        texel_kd = (float4)(tm.kd.x, tm.kd.y, tm.kd.z, tm.shininess);
-        texel_ks = (float4)(tm.ks.x, tm.ks.y, tm.ks.z, 1.0f);
+        texel_base = (float4)(tm.base_color.x, tm.base_color.y, tm.base_color.z, tm.metallic);
+        texel_roughness = (float4)(tm.roughness, 0.0f, 0.0f, 1.0f);
         texel_emission = (float4)(tm.emission.x, tm.emission.y, tm.emission.z, 0.0f);
       }
     }
   }
   hits[pixel] = out;
   if (BP_FEATURE_TEXTURES && uv_slots > 0u) {
-    eye_texels[3 * pixel] = texel_kd;
-    eye_texels[3 * pixel + 1] = texel_ks;
+    eye_texels[3 * pixel] = texel_base;
+    eye_texels[3 * pixel + 1] = texel_roughness;
     eye_texels[3 * pixel + 2] = texel_emission;
   }
   if (BP_FEATURE_SHADING_NORMALS && has_normals)
@@ -703,7 +704,8 @@ static float4 eye_irradiance(const EyeHit* h, __global const float4* flat, __glo
 // Whether a pixel's eye estimate is gathered once per block of iterations (rb_eye_patches,
 // rb_eye_block) rather than every iteration (rb_eye): with eye_blocks on, every pixel that sees the
 // environment, and every Lambert eye vertex without a shading normal of its own. There f(wi, wo) is
-// kd/pi (0 behind the patch), the same every iteration, and everything else the estimate reads --
+// kd/pi (0 behind the patch), the same every iteration (not for glTF's metallic-roughness BRDF, whose
+// Fresnel makes even its diffuse part depend on omega and wo), and everything else the estimate reads --
 // the interpolated E_in, the weights, the light samples' directions -- depends on the patch, its
 // corners and omega alone, so the block's sum of estimates is f times the sum of those per-patch
 // terms (DESIGN.md §8: the per-iteration gather is linear in the patch irradiance). Not with the
@@ -711,6 +713,7 @@ static float4 eye_irradiance(const EyeHit* h, __global const float4* flat, __glo
 static int eye_in_blocks(uint eye_blocks, const Bsdf* bsdf, float3 n, float3 ns) {
   if (!eye_blocks) return 0;
   if (BP_FEATURE_PHONG && bsdf->p_diffuse < 1.0f) return 0;  // a Phong lobe: f depends on omega and wo
+  if (bsdf_is_ggx(bsdf)) return 0;
   float3 d = ns - n;
   return !BP_FEATURE_SHADING_NORMALS || (d.x == 0.0f && d.y == 0.0f && d.z == 0.0f);
 }
@@ -726,9 +729,8 @@ static Bsdf eye_hit_bsdf(const EyeHit* h, uint pixel, const BundleIteration* it,
   Bsdf bsdf = bsdf_from_material(rb_material(materials, patch_materials, uv_slots, elements[pe & ~BP_BACK_SIDE].material,
                                              h->patch));
   if (BP_FEATURE_TEXTURES && uv_slots > 0u && eye_texels[3 * pixel + 1].w > 0.0f) {  // the texel's f and emission
-    float4 kd = eye_texels[3 * pixel], ks = eye_texels[3 * pixel + 1], le = eye_texels[3 * pixel + 2];
-    bsdf_take_texel(&bsdf, make_float3(kd.x, kd.y, kd.z), make_float3(ks.x, ks.y, ks.z), kd.w,
-                    make_float3(le.x, le.y, le.z));
+    float4 base = eye_texels[3 * pixel], roughness = eye_texels[3 * pixel + 1], le = eye_texels[3 * pixel + 2];
+    bsdf_take_texel(&bsdf, make_float3(base.x, base.y, base.z), base.w, roughness.x, make_float3(le.x, le.y, le.z));
   }
   *ns = *n;
   if (BP_FEATURE_SHADING_NORMALS && it->shading_normals) {

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes scenes/cornell-box.gltf and scenes/cornell-glossy.gltf (python3 stdlib only).
+"""Writes scenes/cornell-box.gltf, scenes/cornell-glossy.gltf and scenes/cornell-ggx.gltf (python3 stdlib only).
 
 Geometry: the published Cornell Box data (/work/shared/data/cornell-box.md), mm -> m, y up.
 Every quad is checked to face the way it must: walls into the box, block faces out of the
@@ -36,11 +36,11 @@ FACES = [
     ("back wall", "back", [(549.6, 0.0, 559.2), (0.0, 0.0, 559.2), (0.0, 548.8, 559.2), (556.0, 548.8, 559.2)], (0, 0, -1)),
     ("right wall", "green", [(0.0, 0.0, 559.2), (0.0, 0.0, 0.0), (0.0, 548.8, 0.0), (0.0, 548.8, 559.2)], (1, 0, 0)),
     ("left wall", "red", [(552.8, 0.0, 0.0), (549.6, 0.0, 559.2), (556.0, 548.8, 559.2), (556.0, 548.8, 0.0)], (-1, 0, 0)),
-    ("short block top", "block", [(130.0, 165.0, 65.0), (82.0, 165.0, 225.0), (240.0, 165.0, 272.0), (290.0, 165.0, 114.0)], (0, 1, 0)),
-    ("short block side", "block", [(290.0, 0.0, 114.0), (290.0, 165.0, 114.0), (240.0, 165.0, 272.0), (240.0, 0.0, 272.0)], SHORT_CENTRE),
-    ("short block side", "block", [(130.0, 0.0, 65.0), (130.0, 165.0, 65.0), (290.0, 165.0, 114.0), (290.0, 0.0, 114.0)], SHORT_CENTRE),
-    ("short block side", "block", [(82.0, 0.0, 225.0), (82.0, 165.0, 225.0), (130.0, 165.0, 65.0), (130.0, 0.0, 65.0)], SHORT_CENTRE),
-    ("short block side", "block", [(240.0, 0.0, 272.0), (240.0, 165.0, 272.0), (82.0, 165.0, 225.0), (82.0, 0.0, 225.0)], SHORT_CENTRE),
+    ("short block top", "short block", [(130.0, 165.0, 65.0), (82.0, 165.0, 225.0), (240.0, 165.0, 272.0), (290.0, 165.0, 114.0)], (0, 1, 0)),
+    ("short block side", "short block", [(290.0, 0.0, 114.0), (290.0, 165.0, 114.0), (240.0, 165.0, 272.0), (240.0, 0.0, 272.0)], SHORT_CENTRE),
+    ("short block side", "short block", [(130.0, 0.0, 65.0), (130.0, 165.0, 65.0), (290.0, 165.0, 114.0), (290.0, 0.0, 114.0)], SHORT_CENTRE),
+    ("short block side", "short block", [(82.0, 0.0, 225.0), (82.0, 165.0, 225.0), (130.0, 165.0, 65.0), (130.0, 0.0, 65.0)], SHORT_CENTRE),
+    ("short block side", "short block", [(240.0, 0.0, 272.0), (240.0, 165.0, 272.0), (82.0, 165.0, 225.0), (82.0, 0.0, 225.0)], SHORT_CENTRE),
     ("tall block top", "block", [(423.0, 330.0, 247.0), (265.0, 330.0, 296.0), (314.0, 330.0, 456.0), (472.0, 330.0, 406.0)], (0, 1, 0)),
     ("tall block side", "block", [(423.0, 0.0, 247.0), (423.0, 330.0, 247.0), (472.0, 330.0, 406.0), (472.0, 0.0, 406.0)], TALL_CENTRE),
     ("tall block side", "block", [(472.0, 0.0, 406.0), (472.0, 330.0, 406.0), (314.0, 330.0, 456.0), (314.0, 0.0, 456.0)], TALL_CENTRE),
@@ -68,7 +68,7 @@ BOX_MATERIALS = {
     "white": {"phong": lambert(WHITE)}, "red": {"phong": lambert(RED)},
     "green": {"phong": lambert(GREEN)}, "light": LIGHT,
 }
-BOX_KEYS = {"floor": "white", "back": "white", "white": "white", "block": "white",
+BOX_KEYS = {"floor": "white", "back": "white", "white": "white", "block": "white", "short block": "white",
             "red": "red", "green": "green", "light": "light"}
 
 # The paper's glossy figures on the public box: floor and back wall ks 0.85 n 50 with a faint
@@ -82,8 +82,28 @@ GLOSSY_MATERIALS = {
     "egg": {"phong": phong((0.1,) * 3, (0.8,) * 3, 10)},
     "light": LIGHT,
 }
-GLOSSY_KEYS = {"floor": "glossy white", "back": "glossy white", "white": "white", "block": "block",
+GLOSSY_KEYS = {"floor": "glossy white", "back": "glossy white", "white": "white", "block": "block", "short block": "block",
                "red": "red", "green": "green", "light": "light"}
+
+# The glossy box with glTF's metallic-roughness materials instead (GGX, DESIGN.md section 11): a glossy
+# white dielectric floor and back wall (roughness 0.3), a rough gold block (0.2), a red plastic one
+# (0.5), a copper egg (0.35); the side walls Lambert (metallic 0, specularFactor 0).
+def pbr(base, metallic, roughness, specular=1.0):
+    return {"base": list(base), "metallic": metallic, "roughness": roughness, "specular": specular}
+
+
+GGX_MATERIALS = {
+    "glossy white": {"pbr": pbr(WHITE, 0.0, 0.3)},
+    "white": {"pbr": pbr(WHITE, 0.0, 1.0, 0.0)}, "red": {"pbr": pbr(RED, 0.0, 1.0, 0.0)},
+    "green": {"pbr": pbr(GREEN, 0.0, 1.0, 0.0)},
+    "gold": {"pbr": pbr((1.0, 0.78, 0.34), 1.0, 0.2)},
+    "red plastic": {"pbr": pbr((0.6, 0.05, 0.04), 0.0, 0.5)},
+    "egg": {"pbr": pbr((0.95, 0.64, 0.54), 1.0, 0.35)},
+    "light": LIGHT,
+}
+GGX_KEYS = {"floor": "glossy white", "back": "glossy white", "white": "white", "block": "gold",
+            "short block": "red plastic",
+            "red": "red", "green": "green", "light": "light"}
 
 # Egg: an ellipsoid standing on the floor in the open space in front of the short block, on the
 # red (image-left, +x) side.
@@ -165,6 +185,17 @@ def gltf(materials, keys, extra_meshes):
                      "perspective": {"yfov": 2.0 * math.atan(12.5 / 35.0), "aspectRatio": 1.0, "znear": 0.01}}],
     }
     for name, m in materials.items():
+        if "pbr" in m:
+            p = m["pbr"]
+            mat = {"name": name, "pbrMetallicRoughness": {"baseColorFactor": p["base"] + [1.0],
+                                                          "metallicFactor": p["metallic"],
+                                                          "roughnessFactor": p["roughness"]}}
+            if p["specular"] != 1.0:
+                mat["extensions"] = {"KHR_materials_specular": {"specularFactor": p["specular"]}}
+                if "KHR_materials_specular" not in doc["extensionsUsed"]:
+                    doc["extensionsUsed"].append("KHR_materials_specular")
+            doc["materials"].append(mat)
+            continue
         ph = m["phong"]
         roughness = math.sqrt(math.sqrt(2.0 / (ph["shininess"] + 2.0)))  # inverse of n = 2/a^2 - 2, a = r^2
         mat = {"name": name, "extras": {"phong": ph},
@@ -229,6 +260,7 @@ def main():
         assert all(d + s <= 1.0 for d, s in zip(m["phong"]["kd"], m["phong"]["ks"])), m
     write(gltf(BOX_MATERIALS, BOX_KEYS, {}), os.path.join(out, "cornell-box.gltf"))
     write(gltf(GLOSSY_MATERIALS, GLOSSY_KEYS, {"egg": egg_triangles()}), os.path.join(out, "cornell-glossy.gltf"))
+    write(gltf(GGX_MATERIALS, GGX_KEYS, {"egg": egg_triangles()}), os.path.join(out, "cornell-ggx.gltf"))
 
 
 if __name__ == "__main__":

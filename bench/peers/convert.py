@@ -12,9 +12,13 @@ mapping"), as far as a Lambert peer can follow it:
   TRIANGLE_FAN; a mirroring transform swaps two corners so the front face stays front;
   zero-area triangles dropped; NORMAL carried by the inverse transpose (shading normals);
 * materials: index 0 is the default (kd 0.8 grey), file material i is at i + 1; `extras.phong`
-  wins, else kd = baseColor (1 - metallic), ks = metallic baseColor + (1 - metallic) 0.04
-  specularFactor specularColorFactor; kd and ks scaled down together where max(kd + ks) > 1.
-  The peers render kd as a Lambert BSDF (a material with ks > 0 is reported, not rendered glossy);
+  wins, else glTF's metallic-roughness model, described as the loader reads it (`ggx`, base colour,
+  metallic, roughness, dielectric f0 from KHR_materials_ior and KHR_materials_specular, specular
+  weight; metallic 0 with specular 0 is Lambert kd = baseColor, `ggx` false). For the peers, a
+  Lambert approximation of it as before: kd = baseColor (1 - metallic), ks = metallic baseColor +
+  (1 - metallic) 0.04 specularFactor specularColorFactor; kd and ks scaled down together where
+  max(kd + ks) > 1. The peers render kd as a Lambert BSDF (a material with ks > 0 is reported, not
+  rendered glossy);
   a baseColorTexture (PNG/JPEG, sRGB) multiplies kd and is handed to the peers with its UVs;
 * emission Le = emissiveFactor * KHR_materials_emissive_strength (W sr^-1 m^-2), from the front
   face, from both faces for `doubleSided` materials;
@@ -215,6 +219,7 @@ def read_material(mat, index, warnings):
     out = {"name": name, "double_sided": bool(mat.get("doubleSided", False)), "texture": None}
     ext = mat.get("extensions", {})
     phong = phong_extras(mat)
+    out["ggx"] = False
     if phong is not None:
         out["kd"] = [float(v) for v in phong.get("kd", [0.0, 0.0, 0.0])]
         out["ks"] = [float(v) for v in phong.get("ks", [0.0, 0.0, 0.0])]
@@ -228,6 +233,13 @@ def read_material(mat, index, warnings):
         sf = float(spec.get("specularFactor", 1.0))
         scf = [float(v) for v in spec.get("specularColorFactor", [1.0, 1.0, 1.0])]
         f0 = [0.04 * sf * c for c in scf]
+        # the loader's model (host/scene/gltf_loader.cpp, read_metallic_roughness)
+        ior = float(ext.get("KHR_materials_ior", {}).get("ior", 1.5))
+        f0_ior = 1.0 if ior == 0.0 else ((ior - 1.0) / (ior + 1.0)) ** 2
+        out["ggx"] = not (metallic == 0.0 and sf == 0.0)
+        out["base_color"], out["metallic"], out["roughness"] = base, metallic, roughness
+        out["dielectric_f0"] = [min(f0_ior * c, 1.0) for c in scf]
+        out["specular_weight"] = sf
         out["kd"] = [b * (1.0 - metallic) for b in base]
         out["ks"] = [b * metallic + f * (1.0 - metallic) for b, f in zip(base, f0)]
         a = roughness * roughness
@@ -278,7 +290,7 @@ def load(path):
     gltf, buffers, folder = read_file(path)
     reader = Reader(gltf, buffers)
     warnings = []
-    materials = [{"name": "default", "kd": [0.8, 0.8, 0.8], "ks": [0.0, 0.0, 0.0], "shininess": 1.0,
+    materials = [{"name": "default", "kd": [0.8, 0.8, 0.8], "ks": [0.0, 0.0, 0.0], "shininess": 1.0, "ggx": False,
                   "emission": [0.0, 0.0, 0.0], "double_sided": False, "texture": None}]
     for i, m in enumerate(gltf.get("materials", [])):
         materials.append(read_material(m, i, warnings))
@@ -419,9 +431,11 @@ def write_texture(scene, index, folder):
 
 def describe(scene):
     """The peer-neutral description: what every peer must render, in numbers a test can check."""
-    mats = [{"name": m["name"], "kd": m["kd"], "ks": m["ks"], "emission": m["emission"],
-             "double_sided": m["double_sided"], "textured": m["texture"] is not None,
-             "triangles": 0, "area": 0.0, "vector_area": [0.0, 0.0, 0.0], "bounds": None}
+    mats = [dict({"name": m["name"], "kd": m["kd"], "ks": m["ks"], "emission": m["emission"],
+                  "double_sided": m["double_sided"], "textured": m["texture"] is not None, "ggx": m["ggx"],
+                  "triangles": 0, "area": 0.0, "vector_area": [0.0, 0.0, 0.0], "bounds": None},
+                 **({k: m[k] for k in ("base_color", "metallic", "roughness", "dielectric_f0", "specular_weight")}
+                    if m["ggx"] else {}))
             for m in scene["materials"]]
     lo = [math.inf] * 3
     hi = [-math.inf] * 3

@@ -18,7 +18,14 @@ std::vector<Material> pack_materials(const Scene& scene, const LightList& lights
     }
     p.shininess = m.shininess;
     p.light_pdf_area = lights.material_pdf_area.empty() ? 0.0f : lights.material_pdf_area[out.size()];
-    p.flags = m.double_sided ? BP_MATERIAL_DOUBLE_SIDED : 0u;
+    p.flags = (m.double_sided ? BP_MATERIAL_DOUBLE_SIDED : 0u) | (m.ggx ? BP_MATERIAL_GGX : 0u);
+    for (int c = 0; c < 3; ++c) {
+      p.base_color[c] = m.base_color[c];
+      p.dielectric_f0[c] = m.dielectric_f0[c];
+    }
+    p.metallic = m.metallic;
+    p.roughness = m.roughness;
+    p.specular_weight = m.specular_weight;
     if (m.transmission > 0.0f) {
       p.flags |= BP_MATERIAL_THIN_TRANSMITTER;
       for (int c = 0; c < 3; ++c) p.transmission_tint[c] = m.transmission_tint[c] * m.transmission;

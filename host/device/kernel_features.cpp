@@ -5,7 +5,11 @@ namespace bp {
 KernelFeatures features_for(const Scene& scene, bool light_sampling) {
   KernelFeatures f;
   f.phong = false;
-  for (const SceneMaterial& m : scene.materials) f.phong = f.phong || m.ks.x > 0.0f || m.ks.y > 0.0f || m.ks.z > 0.0f;
+  f.ggx = false;
+  for (const SceneMaterial& m : scene.materials) {
+    f.phong = f.phong || (!m.ggx && (m.ks.x > 0.0f || m.ks.y > 0.0f || m.ks.z > 0.0f));
+    f.ggx = f.ggx || m.ggx;
+  }
   f.light_sampling = light_sampling;
   f.shading_normals = scene.has_shading_normals();
   f.textures = scene.has_textures();
@@ -15,7 +19,7 @@ KernelFeatures features_for(const Scene& scene, bool light_sampling) {
 }
 
 std::string kernel_options(const KernelFeatures& f) {
-  return std::string("-DBP_FEATURE_PHONG=") + (f.phong ? "1" : "0") +
+  return std::string("-DBP_FEATURE_PHONG=") + (f.phong ? "1" : "0") + " -DBP_FEATURE_GGX=" + (f.ggx ? "1" : "0") +
          " -DBP_FEATURE_LIGHT_SAMPLING=" + (f.light_sampling ? "1" : "0") +
          " -DBP_FEATURE_SHADING_NORMALS=" + (f.shading_normals ? "1" : "0") +
          " -DBP_FEATURE_TEXTURES=" + (f.textures ? "1" : "0") +

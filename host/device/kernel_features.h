@@ -7,12 +7,14 @@
 namespace bp {
 
 struct KernelFeatures {
-  bool phong = true;           // a Phong lobe somewhere (ks > 0); off: every material is Lambert
+  bool phong = true;           // a Phong lobe somewhere (ks > 0); off: every Phong material is Lambert
+  bool ggx = true;             // glTF's metallic-roughness BRDF somewhere (kernels/shared/metallic_roughness.h)
   bool light_sampling = true;  // next-event estimation / per-patch shadow rays (kernels/shared/lights.h)
   bool shading_normals = true; // interpolated NORMAL corners (kernels/shared/surface.h); off: flat normals only
   bool textures = true;        // glTF textures (kernels/shared/texture.h); off: every material is its factors
   bool environment = true;     // an environment light (kernels/shared/environment_map.h); off: rays leave into black
   bool transmission = true;    // thin-walled transmitters (kernels/shared/thin_glass.h); off: every surface is opaque
+  bool glossy() const { return phong || ggx; }  // some f depends on the directions, not only Lambert
 };
 
 // What `scene` needs when light sampling is `light_sampling`.

@@ -7,8 +7,10 @@
   static_assert(sizeof(T) == (size), #T " changed size: update the kernels and this check"); \
   static_assert(sizeof(T) % 16 == 0, #T " must be a multiple of 16 bytes")
 
-BP_CHECK_LAYOUT(Material, 80);
+BP_CHECK_LAYOUT(Material, 128);
 static_assert(offsetof(Material, ks) == 16 && offsetof(Material, emission) == 32);
+static_assert(offsetof(Material, base_color) == 48 && offsetof(Material, dielectric_f0) == 64 &&
+              offsetof(Material, specular_weight) == 80);
 static_assert(offsetof(Material, transmission_tint) == sizeof(Material) - 32 && offsetof(Material, ior) == sizeof(Material) - 16,
               "the transmission fields end Material");
 BP_CHECK_LAYOUT(TriangleShading, 32);

@@ -136,7 +136,7 @@ RayBundlePass::RayBundlePass(const DeviceContext& device, const DeviceScene& sce
   eye_patches_ = cl::Kernel(p, "rb_eye_patches");
   eye_block_gather_ = cl::Kernel(p, "rb_eye_block");
   eye_blocks_ = settings.eye_blocks && settings.weight_mode != BP_WEIGHTS_PAPER;
-  eye_every_iteration_ = !eye_blocks_ || settings.phong || scene.has_shading_normals;
+  eye_every_iteration_ = !eye_blocks_ || settings.glossy || scene.has_shading_normals;
 
   elements_ = upload_buffer(device, "bundle elements", geometry.elements);
   patch_element_ = upload_buffer(device, "patch elements", geometry.patch_element);

@@ -36,7 +36,8 @@ struct RayBundleSettings {
   // (DESIGN.md §8; kernels/bundle.cl, eye_in_blocks): the same sums as every iteration's gather, in
   // another order, for a fraction of its cost. false: every pixel every iteration (tests compare).
   bool eye_blocks = true;
-  bool phong = true;  // some material has a Phong lobe (its eye vertices are gathered every iteration)
+  bool glossy = true;  // some f depends on the directions: a Phong lobe or glTF's metallic-roughness BRDF
+                      // (its eye vertices are gathered every iteration)
   bool gouraud = true;                // interpolate E_in across patches in the eye estimate
   std::uint32_t weight_mode = BP_WEIGHTS_NONE;
   float weight_ratio = 1.0f;          // N2 / N1

@@ -195,7 +195,7 @@ void build_passes(RenderState& s) {
     rb.sun_own = s.light_sampling && o.rb_sun_own;
     rb.keep_raw = o.all_layers;
     rb.eye_blocks = o.eye_blocks;
-    rb.phong = features_for(scene, s.light_sampling).phong;
+    rb.glossy = features_for(scene, s.light_sampling).glossy();
     try {
       check_bundle_memory(s.rb_device().context.info, size, rb.bins, std::size_t(width) * height, bundle_chains(rb),
                           scene.has_shading_normals(), scene.has_textures());

@@ -539,21 +539,20 @@ class Loader {
   }
 
   // Core glTF's textures of material `m` into out.textures, with the factors they multiply.
-  void read_textures(const tinygltf::Material& m, const std::string& obj, float metallic, float roughness,
-                     const glm::vec3& specular_f0, SceneMaterial& out) {
+  void read_textures(const tinygltf::Material& m, const std::string& obj, SceneMaterial& out) {
     const auto& pbr = m.pbrMetallicRoughness;
     MaterialTextures& t = out.textures;
     std::vector<int> uv_sets;
     t.base_color = texture_view(pbr.baseColorTexture, obj + " baseColorTexture", true, uv_sets);
     t.metallic_roughness = texture_view(pbr.metallicRoughnessTexture, obj + " metallicRoughnessTexture", false, uv_sets);
     t.emissive = texture_view(m.emissiveTexture, obj + " emissiveTexture", true, uv_sets);
-    for (int c = 0; c < 4; ++c) t.base_color_factor[c] = pbr.baseColorFactor.size() == 4 ? float(pbr.baseColorFactor[c]) : 1.0f;
     for (int c = 0; c < 3; ++c) {
+      t.base_color_factor[c] = out.base_color[c];
       t.emissive_factor[c] = out.emission[c];
-      t.specular_f0[c] = specular_f0[c];
     }
-    t.metallic_factor = metallic;
-    t.roughness_factor = roughness;
+    t.base_color_factor[3] = pbr.baseColorFactor.size() == 4 ? float(pbr.baseColorFactor[3]) : 1.0f;
+    t.metallic_factor = out.metallic;
+    t.roughness_factor = out.roughness;
     // alphaMode MASK (DESIGN.md §6): where alpha (factor x texel) is below the cutoff there is no surface
     bool cut_away = false;
     if (m.alphaMode == "MASK") {
@@ -571,6 +570,61 @@ class Loader {
     scene_.uv_slots = std::max(scene_.uv_slots, std::uint32_t(material_uv_sets_.back().size()));
   }
 
+  // A factor that glTF bounds to [lo, hi]; anything else (negative, NaN, infinite, too large) is an
+  // error that names the material and the field.
+  float bounded_factor(double v, double lo, double hi, const std::string& where) const {
+    if (!(v >= lo && v <= hi)) {
+      std::ostringstream e;
+      e << where << " is " << v << "; glTF allows [" << lo << ", " << hi << "]";
+      fail(e.str());
+    }
+    return float(v);
+  }
+
+  // glTF's metallic-roughness material as its specification's Appendix B writes it (DESIGN.md §11),
+  // with KHR_materials_ior and KHR_materials_specular (kernels/shared/metallic_roughness.h). Where it
+  // is exactly Lambert (metallic 0 and specular 0: no Fresnel layer at all) it stays the Lambert
+  // material kd = baseColor, which RB gathers in blocks.
+  void read_metallic_roughness(const tinygltf::Material& m, const std::string& obj, SceneMaterial& out) {
+    const auto& pbr = m.pbrMetallicRoughness;
+    if (pbr.baseColorFactor.size() != 4) fail(obj + " baseColorFactor is not an array of 4 numbers");
+    for (int c = 0; c < 3; ++c) out.base_color[c] = bounded_factor(pbr.baseColorFactor[c], 0.0, 1.0, obj + " baseColorFactor");
+    bounded_factor(pbr.baseColorFactor[3], 0.0, 1.0, obj + " baseColorFactor");
+    out.metallic = bounded_factor(pbr.metallicFactor, 0.0, 1.0, obj + " metallicFactor");
+    out.roughness = bounded_factor(pbr.roughnessFactor, 0.0, 1.0, obj + " roughnessFactor");
+    // KHR_materials_ior: ior 1.5 by default; 0 or at least 1, 0 meaning f0 = 1 (its specification)
+    double ior = 1.5;
+    if (const auto* v = extension(m.extensions, "KHR_materials_ior", "ior")) {
+      if (!v->IsNumber()) fail(obj + " KHR_materials_ior.ior is not a number");
+      ior = v->GetNumberAsDouble();
+      if (!(ior == 0.0 || (ior >= 1.0 && std::isfinite(ior)))) {
+        std::ostringstream e;
+        e << obj << " KHR_materials_ior.ior is " << ior << "; it must be 0 or at least 1";
+        fail(e.str());
+      }
+    }
+    // f0 = ((ior - outside_ior) / (ior + outside_ior))^2 with air outside (KHR_materials_ior); ior 0: 1
+    const float f0_ior = ior == 0.0 ? 1.0f : float(((ior - 1.0) / (ior + 1.0)) * ((ior - 1.0) / (ior + 1.0)));
+    // KHR_materials_specular: specular in [0, 1], specularColor >= 0 (it may pass 1)
+    out.specular_weight = 1.0f;
+    if (const auto* v = extension(m.extensions, "KHR_materials_specular", "specularFactor")) {
+      if (!v->IsNumber()) fail(obj + " KHR_materials_specular.specularFactor is not a number");
+      out.specular_weight = bounded_factor(v->GetNumberAsDouble(), 0.0, 1.0, obj + " KHR_materials_specular.specularFactor");
+    }
+    glm::vec3 specular_colour(1.0f);
+    if (const auto* v = extension(m.extensions, "KHR_materials_specular", "specularColorFactor")) {
+      const std::string where = obj + " KHR_materials_specular.specularColorFactor";
+      specular_colour = rgb(*v, where);
+      for (int c = 0; c < 3; ++c)
+        bounded_factor(specular_colour[c], 0.0, std::numeric_limits<float>::max(), where);
+    }
+    // dielectric_f0 = min(f0(ior) specularColor, 1), times specular in the Fresnel term (KHR_materials_specular)
+    out.dielectric_f0 = glm::min(f0_ior * specular_colour, glm::vec3(1.0f));
+    out.ggx = !(out.metallic == 0.0f && out.specular_weight == 0.0f);
+    out.kd = out.ggx ? glm::vec3(0.0f) : out.base_color;
+    out.ks = glm::vec3(0.0f);
+  }
+
   void read_materials() {
     SceneMaterial fallback;
     fallback.name = "default";  // kd 0.8 grey Lambert, for primitives without a material
@@ -584,7 +638,6 @@ class Loader {
       out.name = m.name.empty() ? "material " + std::to_string(i) : m.name;
       out.double_sided = m.doubleSided;
       bool pbr_material = false;
-      glm::vec3 specular_f0(0.0f);
       if (const auto* phong = member(m.extras, "phong")) {
         const auto* kd = member(*phong, "kd");
         const auto* ks = member(*phong, "ks");
@@ -594,26 +647,7 @@ class Loader {
         if (n && !n->IsNumber()) fail(obj + " extras.phong.shininess is not a number");
         out.shininess = n ? float(n->GetNumberAsDouble()) : 1.0f;
       } else {
-        const auto& pbr = m.pbrMetallicRoughness;
-        glm::vec3 base(1.0f);
-        if (pbr.baseColorFactor.size() >= 3)
-          base = glm::vec3(float(pbr.baseColorFactor[0]), float(pbr.baseColorFactor[1]),
-                           float(pbr.baseColorFactor[2]));
-        const float metallic = float(pbr.metallicFactor);
-        const auto* sf = extension(m.extensions, "KHR_materials_specular", "specularFactor");
-        const float specular = sf && sf->IsNumber() ? float(sf->GetNumberAsDouble()) : 1.0f;
-        // Blender's exporter writes specularColorFactor [0, 0, 0] for Specular 0: pure Lambert.
-        const auto* scf = extension(m.extensions, "KHR_materials_specular", "specularColorFactor");
-        const glm::vec3 specular_colour =
-            scf ? rgb(*scf, obj + " KHR_materials_specular.specularColorFactor") : glm::vec3(1.0f);
-        // KHR_materials_specular: the dielectric F0 is 0.04 specularFactor specularColorFactor
-        specular_f0 = 0.04f * specular * specular_colour;
-        float3 kd, ks;
-        phong_from_metallic_roughness(make_float3(base.x, base.y, base.z), metallic,
-                                      make_float3(specular_f0.x, specular_f0.y, specular_f0.z), &kd, &ks);
-        out.kd = glm::vec3(kd.x, kd.y, kd.z);
-        out.ks = glm::vec3(ks.x, ks.y, ks.z);
-        out.shininess = phong_shininess_from_roughness(float(pbr.roughnessFactor));
+        read_metallic_roughness(m, obj, out);
         pbr_material = true;
       }
       float strength = 1.0f;
@@ -633,8 +667,7 @@ class Loader {
       if (!std::isfinite(out.shininess) || out.shininess < 0.0f)
         fail(obj + " has a negative or non-finite shininess");
       if (pbr_material) {
-        read_textures(m, obj, float(m.pbrMetallicRoughness.metallicFactor), float(m.pbrMetallicRoughness.roughnessFactor),
-                      specular_f0, out);
+        read_textures(m, obj, out);
       } else {
         material_uv_sets_.emplace_back();
         material_cut_away_.push_back(false);
@@ -643,7 +676,7 @@ class Loader {
           scene_.warnings.push_back(obj + ": extras.phong wins; its textures are ignored");
       }
       const float max_albedo = bp_max(out.kd + out.ks);
-      if (max_albedo > 1.0f) {  // DESIGN.md §6: max(kd + ks) <= 1
+      if (max_albedo > 1.0f) {  // DESIGN.md §6: max(kd + ks) <= 1 (Modified Phong's; glTF's model keeps energy)
         out.kd /= max_albedo;
         out.ks /= max_albedo;
         std::ostringstream w;
@@ -665,8 +698,8 @@ class Loader {
   }
 
   // KHR_materials_transmission with KHR_materials_ior, thin-walled (DESIGN.md §11): the share
-  // T (1 - metallic) of the surface becomes a pane (kernels/shared/thin_glass.h) and kd, ks the opaque
-  // rest, scaled by 1 - that share. What the pane cannot be -- a volume, a textured T or colour, a
+  // T (1 - metallic) of the surface becomes a pane (kernels/shared/thin_glass.h) and the rest of it
+  // the opaque BSDF, scaled by 1 - that share. What the pane cannot be -- a volume, a textured T or colour, a
   // rough pane, an emitting one -- is said per material.
   void read_transmission(const tinygltf::Material& m, const std::string& obj, SceneMaterial& out) {
     const bool has_volume = m.extensions.count("KHR_materials_volume") > 0;
@@ -709,14 +742,14 @@ class Loader {
                                         float(pbr.baseColorFactor[2]));
     out.transmission = share;
     out.ior = float(ior);
-    // the opaque rest: 1 - share of the BSDF, its texels too (the colour and F0 factors they multiply)
+    // the opaque rest: 1 - share of the BSDF. Phong's (and Lambert's) kd and ks here, its texels too (the
+    // colour factor they multiply); a GGX material's f is scaled in the kernels (metallic_roughness.h),
+    // since no one factor of its model scales the whole of it.
+    if (out.ggx) return;
     const float rest = 1.0f - share;
     out.kd *= rest;
     out.ks *= rest;
-    for (int c = 0; c < 3; ++c) {
-      out.textures.base_color_factor[c] *= rest;
-      out.textures.specular_f0[c] *= rest;
-    }
+    for (int c = 0; c < 3; ++c) out.textures.base_color_factor[c] *= rest;
   }
 
   static float bp_max(const glm::vec3& v) { return std::max(v.x, std::max(v.y, v.z)); }

@@ -22,12 +22,22 @@ struct SceneMaterial {
   bool double_sided = false;
   // KHR_materials_transmission, thin-walled (DESIGN.md §11): the share `transmission` of the surface is
   // a pane that passes (1 - F) transmission_tint straight through and mirrors F transmission, F by the
-  // ior (kernels/shared/thin_glass.h); kd and ks above are the opaque rest, scaled by 1 - transmission.
+  // ior (kernels/shared/thin_glass.h); the opaque rest is scaled by 1 - transmission (kd and ks here;
+  // a GGX material's f in the kernels).
   float transmission = 0.0f;
   glm::vec3 transmission_tint{1.0f};  // baseColor (factor): the pane's colour
   float ior = 1.5f;
-  // glTF textures and the factors they multiply (kernels/shared/texture.h); kd, ks, shininess and
-  // emission above are the factors' values, what the material is where no texture says otherwise.
+  // glTF's metallic-roughness BRDF (kernels/shared/metallic_roughness.h) when `ggx`; kd, ks and
+  // shininess are then unused. Without it the material is Modified Phong (extras.phong, Lambert).
+  bool ggx = false;
+  glm::vec3 base_color{1.0f};
+  float metallic = 1.0f;
+  float roughness = 1.0f;              // perceptual; the GGX alpha is its square
+  glm::vec3 dielectric_f0{0.04f};      // min(((ior - 1)/(ior + 1))^2 specularColor, 1)
+  float specular_weight = 1.0f;        // KHR_materials_specular's specular
+  // glTF textures and the factors they multiply (kernels/shared/texture.h); base colour, metallic,
+  // roughness, emission (and kd of a Lambert one) above are the factors' values, what the material
+  // is where no texture says otherwise.
   MaterialTextures textures = untextured();
   bool textured() const { return material_is_textured(&textures); }
   static MaterialTextures untextured();

@@ -129,27 +129,32 @@ std::vector<Material> patch_mean_materials(const Scene& scene, const PatchLayout
     Material m = materials[tri.material];
     const SceneMaterial& sm = scene.materials[tri.material];
     if (sm.textured()) {
-      double kd[3] = {0, 0, 0}, ks[3] = {0, 0, 0}, le[3] = {0, 0, 0}, roughness = 0.0, points = 0.0;
+      double base[3] = {0, 0, 0}, le[3] = {0, 0, 0}, metallic = 0.0, roughness = 0.0, points = 0.0;
       for_each_patch_point(sub, [&](float b1, float b2) {
         // alphaMode MASK: the mean over the part that is there (what RB's fragments are)
         if (!alpha_is_surface(&set, tri.material, std::uint32_t(sub.triangle), b1, b2)) return;
         points += 1.0;
         const TexelMaterial t = texel_material(&set, &sm.textures, std::uint32_t(sub.triangle), b1, b2);
-        const float3 v[3] = {t.kd, t.ks, t.emission};
-        double* sums[3] = {kd, ks, le};
-        for (int q = 0; q < 3; ++q) {
-          sums[q][0] += v[q].x;
-          sums[q][1] += v[q].y;
-          sums[q][2] += v[q].z;
-        }
+        base[0] += t.base_color.x;
+        base[1] += t.base_color.y;
+        base[2] += t.base_color.z;
+        le[0] += t.emission.x;
+        le[1] += t.emission.y;
+        le[2] += t.emission.z;
+        metallic += t.metallic;
         roughness += t.roughness;
       });
-      for (int c = 0; c < 3 && points > 0.0; ++c) {
-        m.kd[c] = float(kd[c] / points);
-        m.ks[c] = float(ks[c] / points);
-        m.emission[c] = float(le[c] / points);
+      if (points > 0.0) {
+        for (int c = 0; c < 3; ++c) {
+          m.base_color[c] = float(base[c] / points);
+          m.emission[c] = float(le[c] / points);
+        }
+        m.metallic = float(metallic / points);
+        m.roughness = float(roughness / points);
+        // a Lambert glTF material (metallic 0, no specular: the loader's choice) reflects kd = base colour
+        if (!sm.ggx)
+          for (int c = 0; c < 3; ++c) m.kd[c] = m.base_color[c] * (1.0f - m.metallic);
       }
-      if (points > 0.0) m.shininess = phong_shininess_from_roughness(float(roughness / points));
     }
     const std::uint32_t front = patches.first_patch[sub.triangle] + sub.local;
     out[front] = m;

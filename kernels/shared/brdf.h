@@ -1,4 +1,6 @@
-// Modified Phong BRDF (DESIGN.md §6) with its sampling routines and pdfs.
+// The BSDF of a vertex, one of two models chosen per material (DESIGN.md §6, §11): Modified Phong
+// (extras.phong, Lambert) here, or with BP_MATERIAL_GGX glTF's metallic-roughness BRDF
+// (shared/metallic_roughness.h); with their sampling routines and pdfs.
 // Conventions: wo points from the vertex towards the eye side, wi towards the light side; both
 // unit and away from the surface; n is the normal on the side of wo. Every pdf here is in the
 // paper's uv measure (eq. 7): pdf_uv = 2 pi * pdf_solid_angle.
@@ -6,6 +8,7 @@
 #define BP_SHARED_BRDF_H
 #include "shared/compat.h"
 #include "shared/frame.h"
+#include "shared/metallic_roughness.h"
 #include "shared/types.h"
 
 typedef struct {
@@ -17,7 +20,11 @@ typedef struct {
   float p_diffuse;      // probability of sampling the diffuse lobe (by albedo)
   float continuation;   // Russian-roulette continuation probability s (material only, DESIGN.md §3)
   bp_u32 flags;
+  MetallicRoughness metallic_roughness;  // BP_MATERIAL_GGX: the glTF model (kd, ks, shininess, p_diffuse unused)
 } Bsdf;
+
+// Whether b is glTF's metallic-roughness model (else Modified Phong).
+BP_FN int bsdf_is_ggx(const Bsdf* b) { return BP_FEATURE_GGX && (b->flags & BP_MATERIAL_GGX) != 0u; }
 
 // The lobe choice and the continuation probability depend on the material alone, so the RB side
 // (which never sees PT's throughput) evaluates the same numbers (DESIGN.md §3, condition 1).
@@ -29,6 +36,12 @@ BP_FN Bsdf bsdf_from_material(BP_GLOBAL const Material* m) {
   b.shininess = m->shininess;
   b.shininess_f = m->shininess;
   b.flags = m->flags;
+  if (bsdf_is_ggx(&b)) {
+    b.metallic_roughness = metallic_roughness_from_material(m);
+    b.p_diffuse = 0.0f;  // the lobe choice depends on wo here (metallic_roughness_specular_probability)
+    b.continuation = metallic_roughness_continuation(&b.metallic_roughness);
+    return b;
+  }
   float albedo_d = bp_max3(b.kd), albedo_s = bp_max3(b.ks);
   float albedo = albedo_d + albedo_s;
   b.p_diffuse = albedo > 0.0f && BP_FEATURE_PHONG ? albedo_d / albedo : 1.0f;  // Lambert-only build: 1
@@ -57,6 +70,10 @@ BP_FN BsdfValue bsdf_evaluate(const Bsdf* b, float3 n, float3 wi, float3 wo) {
   v.pdf_uv = 0.0f;
   float cos_theta = dot(n, wi);
   if (cos_theta <= 0.0f) return v;
+  if (bsdf_is_ggx(b)) {
+    metallic_roughness_evaluate(&b->metallic_roughness, n, wi, wo, &v.f, &v.pdf_uv);
+    return v;
+  }
   const int front = dot(n, wo) > 0.0f;
   if (front) v.f = b->kd * BP_INV_PI;
   if (!BP_FEATURE_PHONG || b->p_diffuse >= 1.0f) {  // Lambert: no cos^n
@@ -101,7 +118,15 @@ typedef struct {
 
 BP_FN BsdfSample bsdf_sample(const Bsdf* b, float3 n, float3 wo, float u_lobe, float u1, float u2) {
   BsdfSample s;
-  if (u_lobe < b->p_diffuse) {
+  if (bsdf_is_ggx(b)) {
+    const MetallicRoughness* mr = &b->metallic_roughness;
+    if (u_lobe < metallic_roughness_specular_probability(mr, dot(n, wo))) {
+      s.wi = ggx_sample_reflection(mr->density_alpha, n, wo, u1, u2);
+    } else {
+      Frame f = frame_from_normal(n);
+      s.wi = frame_to_world(&f, sample_cosine_local(u1, u2));
+    }
+  } else if (u_lobe < b->p_diffuse) {
     Frame f = frame_from_normal(n);
     s.wi = frame_to_world(&f, sample_cosine_local(u1, u2));
   } else {

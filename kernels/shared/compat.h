@@ -94,6 +94,9 @@ inline float3 fmin(float3 a, float3 b) { return {std::fmin(a.x, b.x), std::fmin(
 #ifndef BP_FEATURE_PHONG
 #define BP_FEATURE_PHONG 1
 #endif
+#ifndef BP_FEATURE_GGX
+#define BP_FEATURE_GGX 1
+#endif
 #ifndef BP_FEATURE_LIGHT_SAMPLING
 #define BP_FEATURE_LIGHT_SAMPLING 1
 #endif

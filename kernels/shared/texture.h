@@ -1,8 +1,8 @@
 // glTF textures (DESIGN.md §6): every image's texels in one buffer (RGBA8, one bp_u32 per texel, rows
 // top to bottom as glTF's uv (0, 0) is the image's top-left corner), a view per use of an image by
 // a material (sampler, KHR_texture_transform, texcoord set, sRGB or linear), and the material's
-// factors, so a hit's kd, ks, shininess, emission and alpha are evaluated the same way here, in
-// the host's per-patch means and in the host tests. No OpenCL image objects.
+// factors, so a hit's base colour, metallic, roughness, emission and alpha are evaluated the same way
+// here, in the host's per-patch means and in the host tests. No OpenCL image objects.
 #ifndef BP_SHARED_TEXTURE_H
 #define BP_SHARED_TEXTURE_H
 #include "shared/compat.h"
@@ -29,7 +29,7 @@ typedef struct {
 } TextureView;
 
 // A material's textures (TextureView indices, BP_NO_TEXTURE: none) and the core-glTF factors they
-// multiply, so kd, ks and shininess follow DESIGN.md §6's mapping texel by texel.
+// multiply (the rest of a textured material is its Material's: shared/metallic_roughness.h).
 typedef struct {
   bp_u32 base_color;          // RGB sRGB, A linear
   bp_u32 metallic_roughness;  // G roughness, B metallic, linear
@@ -38,7 +38,6 @@ typedef struct {
   float base_color_factor[4]; // linear RGBA
   float emissive_factor[3];   // emissiveFactor x emissiveStrength, W sr^-1 m^-2
   float metallic_factor;
-  float specular_f0[3];       // the dielectric F0: 0.04 specularFactor specularColorFactor (KHR_materials_specular)
   float roughness_factor;
 } MaterialTextures;
 
@@ -132,38 +131,14 @@ BP_FN Texel texture_at(const TextureSet* set, bp_u32 view, bp_u32 triangle, floa
   return texture_sample(set->texels, &v, tu, tv);
 }
 
-// DESIGN.md §6's core-glTF mapping: Phong exponent from roughness, a = roughness^2, n = 2/a^2 - 2
-// (clamped to [0, 1e6]; roughness 0 is the sharpest lobe).
-BP_FN float phong_shininess_from_roughness(float roughness) {
-  float a = roughness * roughness;
-  float n = a > 0.0f ? 2.0f / (a * a) - 2.0f : 1.0e6f;
-  return clamp(n, 0.0f, 1.0e6f);
-}
-
 // A surface point's material, from the factors and the texels.
 typedef struct {
-  float3 kd;
-  float3 ks;
-  float shininess;
+  float3 base_color;  // baseColorFactor x texel (linear)
+  float metallic;     // metallicFactor x B of metallicRoughnessTexture
+  float roughness;    // roughnessFactor x G of metallicRoughnessTexture
   float3 emission;
   float alpha;
-  float roughness;
 } TexelMaterial;
-
-// kd = base (1 - metallic), ks = metallic base + (1 - metallic) F0 (DESIGN.md §6).
-BP_FN void phong_from_metallic_roughness(float3 base, float metallic, float3 specular_f0, float3* kd, float3* ks) {
-  *kd = base * (1.0f - metallic);
-  *ks = base * metallic + specular_f0 * (1.0f - metallic);
-}
-
-// max(kd + ks) <= 1 (DESIGN.md §6): both scaled down together where it passes 1.
-BP_FN void phong_keep_energy(float3* kd, float3* ks) {
-  float max_albedo = bp_max3(*kd + *ks);
-  if (max_albedo > 1.0f) {
-    *kd = *kd * (1.0f / max_albedo);
-    *ks = *ks * (1.0f / max_albedo);
-  }
-}
 
 // The material at barycentrics (b1, b2) of `triangle`, whose material has textures `mt`.
 BP_FN TexelMaterial texel_material(const TextureSet* set, const MaterialTextures* mt, bp_u32 triangle, float b1,
@@ -187,11 +162,9 @@ BP_FN TexelMaterial texel_material(const TextureSet* set, const MaterialTextures
     emission = emission * make_float3(t.r, t.g, t.b);
   }
   TexelMaterial out;
-  phong_from_metallic_roughness(base, metallic, make_float3(mt->specular_f0[0], mt->specular_f0[1], mt->specular_f0[2]),
-                                &out.kd, &out.ks);
-  phong_keep_energy(&out.kd, &out.ks);
+  out.base_color = base;
+  out.metallic = metallic;
   out.roughness = roughness;
-  out.shininess = phong_shininess_from_roughness(roughness);
   out.emission = emission;
   out.alpha = alpha;
   return out;

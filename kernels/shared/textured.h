@@ -1,16 +1,22 @@
 // The BSDF at a textured hit (DESIGN.md §6): its patch's mean material decides everything the
-// weights read (the continuation s, the lobe choice, the density's shininess), the texel decides
-// f (kd, ks, the lobe's exponent) and the emission. Untextured materials are left as they are.
+// weights read (the continuation s, the lobe choice, the density's roughness), the texel decides
+// f (base colour, metallic, roughness) and the emission. Untextured materials are left as they are.
 #ifndef BP_SHARED_TEXTURED_H
 #define BP_SHARED_TEXTURED_H
 #include "shared/brdf.h"
 #include "shared/texture.h"
 
-// bsdf (from the patch's mean Material) with f and the emission of a texel's material.
-BP_FN void bsdf_take_texel(Bsdf* bsdf, float3 kd, float3 ks, float shininess, float3 emission) {
-  bsdf->kd = kd;
-  bsdf->ks = ks;
-  bsdf->shininess_f = shininess;
+// bsdf (from the patch's mean Material) with f and the emission of a texel's material. Textured
+// materials are glTF's: the metallic-roughness BRDF, or where it reduces to Lambert (metallic and
+// specular 0, the loader's choice) kd = base colour (1 - metallic).
+BP_FN void bsdf_take_texel(Bsdf* bsdf, float3 base_color, float metallic, float roughness, float3 emission) {
+  if (bsdf_is_ggx(bsdf)) {
+    bsdf->metallic_roughness.base_color = base_color;
+    bsdf->metallic_roughness.metallic = metallic;
+    bsdf->metallic_roughness.alpha = ggx_alpha_from_roughness(roughness);
+  } else {
+    bsdf->kd = base_color * (1.0f - metallic);
+  }
   bsdf->emission = emission;
 }
 
@@ -19,7 +25,7 @@ BP_FN void bsdf_apply_texel(Bsdf* bsdf, const TextureSet* set, bp_u32 material, 
   MaterialTextures mt = set->materials[material];
   if (!material_is_textured(&mt)) return;
   TexelMaterial t = texel_material(set, &mt, triangle, b1, b2);
-  bsdf_take_texel(bsdf, t.kd, t.ks, t.shininess, t.emission);
+  bsdf_take_texel(bsdf, t.base_color, t.metallic, t.roughness, t.emission);
 }
 
 #endif  // BP_SHARED_TEXTURED_H

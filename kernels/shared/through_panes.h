@@ -4,6 +4,7 @@
 #ifndef BP_SHARED_THROUGH_PANES_H
 #define BP_SHARED_THROUGH_PANES_H
 #include "shared/alpha_mask.h"
+#include "shared/brdf.h"
 #include "shared/compat.h"
 #include "shared/rng.h"
 #include "shared/thin_glass.h"
@@ -43,7 +44,7 @@ BP_FN float3 shadow_transmittance(BP_GLOBAL const BvhNode* nodes, BP_GLOBAL cons
 BP_FN float pane_rest_albedo(BP_GLOBAL const TriangleShading* t, BP_GLOBAL const Material* m, float3 dir) {
   int front = dot(bp_load3(t->normal), dir) < 0.0f;
   if (!front && !(m->flags & BP_MATERIAL_DOUBLE_SIDED)) return 0.0f;
-  return clamp(bp_max3(bp_load3(m->kd) + bp_load3(m->ks)), 0.0f, 1.0f);  // the BSDF's continuation s (brdf.h)
+  return bsdf_from_material(m).continuation;  // the BSDF's continuation s (brdf.h), of either model
 }
 
 // The closest hit along the ray where it does not pass a pane: at each pane, pass with the

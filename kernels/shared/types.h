@@ -5,9 +5,12 @@
 #include "shared/compat.h"
 
 #define BP_MATERIAL_DOUBLE_SIDED 1u
+#define BP_MATERIAL_GGX 2u  // glTF metallic-roughness (kernels/shared/metallic_roughness.h), not Modified Phong
 #define BP_MATERIAL_THIN_TRANSMITTER 4u  // KHR_materials_transmission, thin-walled (kernels/shared/thin_glass.h)
 
-// Modified Phong material (DESIGN.md §6): f = kd/pi + ks (n+2)/(2 pi) cos^n(alpha); Le one-sided.
+// A material (DESIGN.md §6): Modified Phong, f = kd/pi + ks (n+2)/(2 pi) cos^n(alpha) (extras.phong and
+// Lambert), or with BP_MATERIAL_GGX glTF 2.0's metallic-roughness BRDF (Appendix B: Lambert + GGX,
+// Schlick Fresnel) from the fields after light_pdf_area, kd, ks and shininess then unused. Le one-sided.
 typedef struct {
   float kd[3];
   float shininess;
@@ -15,9 +18,15 @@ typedef struct {
   bp_u32 flags;          // BP_MATERIAL_*
   float emission[3];     // radiance Le, W sr^-1 m^-2
   float light_pdf_area;  // light sampling's density on this material's emitters: P(select) / area, m^-2 (lights.h)
+  float base_color[3];   // BP_MATERIAL_GGX: baseColor, linear
+  float metallic;
+  float dielectric_f0[3];  // min(((ior - 1)/(ior + 1))^2 specularColor, 1) (KHR_materials_ior, KHR_materials_specular)
+  float roughness;         // glTF's perceptual roughness; the GGX alpha is its square
+  float specular_weight;   // KHR_materials_specular's specular: scales the dielectric Fresnel (f0 and f90)
+  float ggx_pad[3];
   // A thin-walled transmitter (BP_MATERIAL_THIN_TRANSMITTER, DESIGN.md §11): the share `transmission`
-  // of the surface is a pane (thin_glass.h); kd and ks above are the opaque rest, already scaled by
-  // 1 - transmission at load (gltf_loader.cpp, read_transmission).
+  // of the surface is a pane (thin_glass.h); the rest is the opaque BSDF scaled by 1 - transmission
+  // (Phong's kd and ks at load, gltf_loader.cpp's read_transmission; GGX's f, metallic_roughness.h).
   float transmission_tint[3];  // baseColor x transmission: the pane's straight-through filter before Fresnel
   float transmission;          // the pane's share T of the surface (its mirror reflects F T)
   float ior;                   // of the pane's Fresnel F0 (KHR_materials_ior)

@@ -118,9 +118,11 @@ BP_FN LastSegmentWeights last_segment_weights(float prefix_beta, float ratio_n2_
 // per fragment and per shadow ray before any pixel exists: s (P_d 2 cos theta_in + P_s (n + 1)), the
 // diffuse part of the mixture exactly and the Phong lobe at its peak (its largest density over all
 // views). Exact for Lambert surfaces (DESIGN.md's p~_b); on glossy ones it leans to PT, which samples
-// the lobe that RB's patch-level direct light would blur.
+// the lobe that RB's patch-level direct light would blur. GGX lobes change with the view: there an
+// upper bound over every view (metallic_roughness_eye_proxy_pdf_uv).
 BP_FN float eye_direct_proxy_pdf_uv(const Bsdf* b, float cos_theta_in) {
   if (!(cos_theta_in > 0.0f)) return 0.0f;
+  if (bsdf_is_ggx(b)) return metallic_roughness_eye_proxy_pdf_uv(&b->metallic_roughness, b->continuation, cos_theta_in);
   float lobe_peak = BP_FEATURE_PHONG ? (1.0f - b->p_diffuse) * (b->shininess + 1.0f) : 0.0f;
   return b->continuation * (b->p_diffuse * pdf_uv_cosine(cos_theta_in) + lobe_peak);
 }

@@ -33,7 +33,7 @@ Accumulator render(const Config& c, bool eye_blocks, std::uint64_t iterations) {
   DeviceScene device_scene(test_device(), scene, patches, bvh);
   RayBundleSettings settings = c.settings;
   settings.eye_blocks = eye_blocks;
-  settings.phong = features_for(scene, settings.light_sampling).phong;
+  settings.glossy = features_for(scene, settings.light_sampling).glossy();
   Accumulator accum(width, height, settings.keep_raw);
   RayBundlePass pass(test_device(), device_scene, geometry, pack_camera(scene.camera, width, height), settings, accum);
   std::atomic<bool> never{false};

@@ -1,5 +1,5 @@
-// Chi-square tests of the cosine and Phong-lobe samplers as they run in the kernel (on the test
-// device), against the host-compiled pdf functions of kernels/shared/brdf.h.
+// Chi-square tests of the cosine, Phong-lobe and GGX (glTF metallic-roughness) samplers as they run
+// in the kernel (on the test device), against the host-compiled pdf functions of kernels/shared/brdf.h.
 #include "kernel/device_fixture.h"
 #include "stats.h"
 
@@ -16,7 +16,11 @@ namespace {
 struct SamplerCase {
   const char* name;
   float kd, ks, shininess;
-  float wo_theta;  // angle of wo from the normal
+  float wo_theta;            // angle of wo from the normal
+  float roughness = -1.0f;   // >= 0: glTF's metallic-roughness BRDF, base colour kd, F0 0.04
+  float metallic = 0.0f;
+  bool ggx() const { return roughness >= 0.0f; }
+  bool lobe_only() const { return ggx() ? metallic == 1.0f : kd == 0.0f; }  // no diffuse lobe
 };
 
 // All cases of this file form one family (Šidák over them, alpha = 0.01).
@@ -24,6 +28,8 @@ const SamplerCase kCases[] = {
     {"cosine", 0.8f, 0.0f, 1.0f, 0.3f},      {"phong_n10_normal", 0.0f, 0.9f, 10.0f, 0.0f},
     {"phong_n50_oblique", 0.0f, 0.85f, 50.0f, 0.9f}, {"phong_n1000_grazing", 0.0f, 0.9f, 1000.0f, 1.45f},
     {"phong_n1e4", 0.0f, 0.9f, 1.0e4f, 0.6f},       {"mixture_n10", 0.45f, 0.45f, 10.0f, 0.7f},
+    {"ggx_metal_r0_2", 0.9f, 0.0f, 0.0f, 0.6f, 0.2f, 1.0f}, {"ggx_metal_r0_6_grazing", 0.9f, 0.0f, 0.0f, 1.4f, 0.6f, 1.0f},
+    {"ggx_plastic_r0_3", 0.6f, 0.0f, 0.0f, 1.1f, 0.3f, 0.0f}, {"ggx_half_metal_r0_5", 0.5f, 0.0f, 0.0f, 0.4f, 0.5f, 0.5f},
 };
 constexpr int kFamily = sizeof(kCases) / sizeof(kCases[0]);
 constexpr std::uint32_t kSamples = 1u << 20;
@@ -50,9 +56,24 @@ Samples run_sampler(const Material& material, float3 wo, std::uint32_t seed) {
 
 Material make_material(const SamplerCase& c) {
   Material m{};
+  if (c.ggx()) {
+    m.flags = BP_MATERIAL_GGX;
+    for (int i = 0; i < 3; ++i) { m.base_color[i] = c.kd; m.dielectric_f0[i] = 0.04f; }
+    m.metallic = c.metallic;
+    m.roughness = c.roughness;
+    m.specular_weight = 1.0f;
+    return m;
+  }
   for (int i = 0; i < 3; ++i) { m.kd[i] = c.kd; m.ks[i] = c.ks; }
   m.shininess = c.shininess;
   return m;
+}
+
+// A Phong exponent of the same width as the case's lobe: the tests' cells and tolerances scale with it.
+float lobe_shininess(const SamplerCase& c) {
+  if (!c.ggx()) return c.shininess;
+  const float alpha = ggx_alpha_from_roughness(c.roughness);
+  return 2.0f / (alpha * alpha) - 2.0f;
 }
 
 class SamplerChiSquare : public ::testing::TestWithParam<SamplerCase> {};
@@ -67,10 +88,12 @@ TEST_P(SamplerChiSquare, KernelSamplesFollowThePdf) {
 
   // Cells in a frame around the lobe axis: the normal for diffuse/mixture, the mirror direction for
   // a pure Phong lobe, with polar cells scaled to the lobe's width so sharp lobes are resolved.
-  const bool phong_only = c.kd == 0.0f;
-  const float3 axis = phong_only ? reflect_about(wo, n) : n;
+  const bool lobe_only = c.lobe_only();
+  const float3 axis = lobe_only ? reflect_about(wo, n) : n;
   Frame frame = frame_from_normal(axis);
-  const double theta_max = phong_only ? std::min(M_PI, 6.0 * std::sqrt(2.0 / (c.shininess + 2.0)) + 0.05) : M_PI / 2;
+  // GGX's tails are longer than Phong's: twice the range (what falls beyond is the last cell)
+  const double width = (c.ggx() ? 12.0 : 6.0) * std::sqrt(2.0 / (lobe_shininess(c) + 2.0));
+  const double theta_max = lobe_only ? std::min(M_PI, width + 0.05) : M_PI / 2;
   const int n_theta = 24, n_phi = 32;
   std::vector<double> observed(n_theta * n_phi + 1, 0.0), expected(n_theta * n_phi + 1, 0.0);
   const std::size_t rest = observed.size() - 1;  // beyond theta_max, or below the surface (pdf 0)
@@ -125,7 +148,7 @@ TEST_P(SamplerChiSquare, ReturnedPdfEqualsHostPdfFunction) {
     float host_pdf = bsdf_pdf_uv(&bsdf, n, make_float3(v[0], v[1], v[2]), wo);
     // Device and host may round differently (FMA contraction); cos^n alpha amplifies an ulp of
     // cos alpha by n, so the tolerance grows with the shininess.
-    float tolerance = (2e-5f + 5e-7f * c.shininess) * std::max(1.0f, host_pdf);
+    float tolerance = (2e-5f + 5e-7f * lobe_shininess(c)) * std::max(1.0f, host_pdf);
     ASSERT_NEAR(v[3], host_pdf, tolerance) << c.name << " sample " << i;
     ++checked;
   }

@@ -92,7 +92,9 @@ TEST(Textures, TextureCoordinateTestSampleRendersItsTexture) {
   scene.camera.yfov = 0.6f;  // tan(0.3) 4.5 m = 1.39 m: the quads (to 1.2 m) in view
   for (SceneMaterial& m : scene.materials) {  // its quads are rough metals (metallicFactor 1): made Lambert, kd = base
     m.textures.metallic_factor = 0.0f;
-    for (float& f0 : m.textures.specular_f0) f0 = 0.0f;
+    m.metallic = 0.0f;
+    m.ggx = false;
+    m.kd = m.base_color;
     m.ks = glm::vec3(0.0f);
   }
   constexpr int size = 32, grid = 16, spp = 64;
@@ -119,7 +121,7 @@ TEST(Textures, TextureCoordinateTestSampleRendersItsTexture) {
                     scene.materials[shading[hit.triangle].material].textured();  // double-sided
           if (!on_quad) break;
           const MaterialTextures mt = materials[shading[hit.triangle].material];
-          sum += texel_material(&set, &mt, hit.triangle, hit.b1, hit.b2).kd.y;  // green: every quad has some
+          sum += texel_material(&set, &mt, hit.triangle, hit.b1, hit.b2).base_color.y;  // green: every quad has some
         }
       if (!on_quad) continue;
       expected.push_back(sum / (grid * grid) * kEnvironment[1]);

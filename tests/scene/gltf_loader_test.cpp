@@ -43,30 +43,39 @@ TEST(GltfLoader, SparseAccessorWithoutBufferView) {
 
 TEST(GltfLoader, MaterialMapping) {
   const Scene s = load_gltf(test_file("good/materials.gltf"));
-  ASSERT_EQ(s.materials.size(), 8u);
-  ASSERT_EQ(s.triangles.size(), 8u);
+  ASSERT_EQ(s.materials.size(), 10u);
+  ASSERT_EQ(s.triangles.size(), 10u);
   // Index 0 is the default material; file material i is at i + 1.
   expect_vec3_near(s.materials[0].kd, glm::vec3(0.8f));
   expect_vec3_near(s.materials[0].ks, glm::vec3(0.0f));
-  for (std::uint32_t i = 0; i < 7; ++i) EXPECT_EQ(s.triangles[i].material, i + 1);
-  EXPECT_EQ(s.triangles[7].material, 0u);
+  EXPECT_FALSE(s.materials[0].ggx);
+  for (std::uint32_t i = 0; i < 9; ++i) EXPECT_EQ(s.triangles[i].material, i + 1);
+  EXPECT_EQ(s.triangles[9].material, 0u);
 
   const SceneMaterial& phong = s.materials[1];  // extras.phong wins over the PBR fields
+  EXPECT_FALSE(phong.ggx);
   expect_vec3_near(phong.kd, {0.2f, 0.3f, 0.4f});
   expect_vec3_near(phong.ks, glm::vec3(0.5f));
   EXPECT_FLOAT_EQ(phong.shininess, 20.0f);
 
+  // Core glTF is the metallic-roughness BRDF (DESIGN.md §11): its factors as they are, no Phong mapping.
   const SceneMaterial& core_default = s.materials[2];  // baseColor 1, metallic 1, roughness 1
-  expect_vec3_near(core_default.kd, glm::vec3(0.0f));
-  expect_vec3_near(core_default.ks, glm::vec3(1.0f));
-  EXPECT_FLOAT_EQ(core_default.shininess, 0.0f);
+  EXPECT_TRUE(core_default.ggx);
+  expect_vec3_near(core_default.base_color, glm::vec3(1.0f));
+  EXPECT_FLOAT_EQ(core_default.metallic, 1.0f);
+  EXPECT_FLOAT_EQ(core_default.roughness, 1.0f);
+  expect_vec3_near(core_default.dielectric_f0, glm::vec3(0.04f));  // ior 1.5: ((1.5 - 1) / (1.5 + 1))^2
+  EXPECT_FLOAT_EQ(core_default.specular_weight, 1.0f);
 
   const SceneMaterial& pbr = s.materials[3];  // base (0.5, 0.25, 0.9), metallic 0.5, rough 0.5, specular 0.5
-  expect_vec3_near(pbr.kd, {0.25f, 0.125f, 0.45f});
-  expect_vec3_near(pbr.ks, glm::vec3(0.25f, 0.125f, 0.45f) + 0.5f * 0.04f * 0.5f);
-  EXPECT_NEAR(pbr.shininess, 30.0f, 1e-3);  // a = 0.25: 2 / a^2 - 2
+  EXPECT_TRUE(pbr.ggx);
+  expect_vec3_near(pbr.base_color, {0.5f, 0.25f, 0.9f});
+  EXPECT_FLOAT_EQ(pbr.metallic, 0.5f);
+  EXPECT_FLOAT_EQ(pbr.roughness, 0.5f);
+  EXPECT_FLOAT_EQ(pbr.specular_weight, 0.5f);  // KHR_materials_specular scales f0 and f90, not f0 itself
+  expect_vec3_near(pbr.dielectric_f0, glm::vec3(0.04f));
 
-  const SceneMaterial& bright = s.materials[4];  // kd + ks = 1.6 in red: scaled by 1/1.6
+  const SceneMaterial& bright = s.materials[4];  // Phong's kd + ks = 1.6 in red: scaled by 1/1.6
   expect_vec3_near(bright.kd, {0.5f, 0.125f, 0.125f});
   expect_vec3_near(bright.ks, {0.5f, 0.125f, 0.125f});
   EXPECT_TRUE(has_warning(s, "\"too bright\""));
@@ -74,18 +83,33 @@ TEST(GltfLoader, MaterialMapping) {
   const SceneMaterial& lamp = s.materials[5];
   expect_vec3_near(lamp.emission, {4.0f, 2.0f, 1.0f});  // emissiveFactor x emissiveStrength 4
   EXPECT_TRUE(lamp.double_sided);
-  EXPECT_FLOAT_EQ(lamp.shininess, 1e6f);  // roughness 0
+  EXPECT_TRUE(lamp.ggx);
+  EXPECT_FLOAT_EQ(lamp.roughness, 0.0f);  // the sharpest lobe (BP_GGX_MIN_ALPHA)
   EXPECT_FALSE(phong.double_sided);
 
-  // KHR_materials_specular.specularColorFactor [0, 0, 0] (Blender's Specular 0): pure Lambert, no warning.
-  const SceneMaterial& lambert = s.materials[6];
-  expect_vec3_near(lambert.kd, glm::vec3(1.0f));
-  expect_vec3_near(lambert.ks, glm::vec3(0.0f));
+  // KHR_materials_specular.specularColorFactor [0, 0, 0] (Blender's Specular 0): f0 = 0, but the
+  // specification keeps f90 = specular = 1, so grazing light still reflects (Schlick's (1 - v.h)^5).
+  const SceneMaterial& blender = s.materials[6];
+  EXPECT_TRUE(blender.ggx);
+  expect_vec3_near(blender.dielectric_f0, glm::vec3(0.0f));
+  EXPECT_FLOAT_EQ(blender.specular_weight, 1.0f);
   EXPECT_FALSE(has_warning(s, "\"blender specular 0\""));
-  // ks = metallic base + (1 - metallic) 0.04 specularFactor specularColorFactor
+  // dielectric_f0 = min(f0(ior) specularColor, 1), specular apart
   const SceneMaterial& coloured = s.materials[7];  // base 0.5, metallic 0.5, specular 0.5, colour (1, 0.5, 0)
-  expect_vec3_near(coloured.kd, glm::vec3(0.25f));
-  expect_vec3_near(coloured.ks, glm::vec3(0.25f) + 0.5f * 0.04f * 0.5f * glm::vec3(1.0f, 0.5f, 0.0f));
+  expect_vec3_near(coloured.dielectric_f0, 0.04f * glm::vec3(1.0f, 0.5f, 0.0f));
+  EXPECT_FLOAT_EQ(coloured.specular_weight, 0.5f);
+  const SceneMaterial& water = s.materials[8];  // KHR_materials_ior 1.33, specular colour (100, 1, 0.5)
+  const float f0_water = (0.33f / 2.33f) * (0.33f / 2.33f);
+  expect_vec3_near(water.dielectric_f0, {1.0f, f0_water, 0.5f * f0_water}, 1e-6f);
+  EXPECT_FLOAT_EQ(water.roughness, 0.1f);
+  // specular 0, metallic 0: exactly Lambert, kd = baseColor (and gathered in blocks by RB)
+  const SceneMaterial& no_specular = s.materials[9];
+  EXPECT_FALSE(no_specular.ggx);
+  expect_vec3_near(no_specular.kd, glm::vec3(0.6f));
+  expect_vec3_near(no_specular.ks, glm::vec3(0.0f));
+  // glTF's model conserves energy by construction: no kd + ks warning for any of them
+  for (const char* name : {"\"pbr default\"", "\"pbr\"", "\"lamp\"", "\"coloured specular\"", "\"water\""})
+    EXPECT_FALSE(has_warning(s, name)) << name;
 
   EXPECT_EQ(s.emissive_triangles(), 1u);
   EXPECT_FALSE(has_warning(s, "no emitter"));
@@ -200,7 +224,11 @@ TEST(GltfLoader, BlenderExportedRoomWithSunPointLightTextureAndSmoothNormals) {
   EXPECT_TRUE(s.has_shading_normals());
   int textured = 0;
   for (const SceneMaterial& m : s.materials) {
-    EXPECT_EQ(m.ks, glm::vec3(0.0f)) << m.name;  // specularColorFactor [0, 0, 0]: Lambert
+    // Specular 0 is specularColorFactor [0, 0, 0]: glTF's model with f0 0 (grazing Fresnel only)
+    if (&m != &s.materials[0]) {  // the loader's default material is no file's
+      EXPECT_TRUE(m.ggx) << m.name;
+      EXPECT_EQ(m.dielectric_f0, glm::vec3(0.0f)) << m.name;
+    }
     if (!m.textured()) continue;
     ++textured;
     EXPECT_EQ(m.name, "floor_tiles");
@@ -276,6 +304,10 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"normal-component.gltf", "accessor 2 (NORMAL of mesh 0 primitive 0) has unsupported component type"},
         BadCase{"normal-nan.gltf", "accessor 2 (NORMAL of mesh 0 primitive 0) holds a non-finite normal"},
         BadCase{"specular-colour.gltf", "material 0 \"grey\" KHR_materials_specular.specularColorFactor"},
+        BadCase{"ior-below-one.gltf", "material 0 \"grey\" KHR_materials_ior.ior is 0.5; it must be 0 or at least 1"},
+        BadCase{"metallic-negative.gltf", "material 0 \"grey\" metallicFactor is -0.25; glTF allows [0, 1]"},
+        BadCase{"specular-factor-range.gltf", "material 0 \"grey\" KHR_materials_specular.specularFactor is 1.5"},
+        BadCase{"base-colour-negative.gltf", "material 0 \"grey\" baseColorFactor is -0.1"},
         BadCase{"uri-parent.gltf", "buffer 0 uri"},
         BadCase{"uri-absolute.gltf", "buffer 0 uri"},
         BadCase{"uri-encoded-parent.gltf", "buffer 0 uri"},

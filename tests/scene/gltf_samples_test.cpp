@@ -66,15 +66,16 @@ TEST(GltfSamples, PrimitiveModesAreTriangulatedFrontFacingAndOthersWarned) {
   for (const auto& t : s.triangles) EXPECT_GT(test::normal_of(t).z, 0.0f);
 }
 
-TEST(GltfSamples, BoxMaterialFollowsCorePbrMapping) {
+TEST(GltfSamples, BoxMaterialIsCoreMetallicRoughness) {
   const Scene s = load_gltf(gltf_sample("Box.gltf"));
   ASSERT_EQ(s.materials.size(), 2u);  // default + the file's one
   const SceneMaterial& m = s.materials[1];
-  // baseColor (0.8, 0, 0), metallic 1 and roughness 1 by default: kd = 0, ks = baseColor, n = 0.
-  EXPECT_NEAR(m.kd.x, 0.0f, 1e-6);
-  EXPECT_NEAR(m.ks.x, 0.8f, 1e-6);
-  EXPECT_NEAR(m.ks.y, 0.0f, 1e-6);
-  EXPECT_NEAR(m.shininess, 0.0f, 1e-6);
+  // baseColor (0.8, 0, 0), metallic 1 and roughness 1 by default: a rough red conductor, F0 = baseColor.
+  EXPECT_TRUE(m.ggx);
+  EXPECT_NEAR(m.base_color.x, 0.8f, 1e-6);
+  EXPECT_NEAR(m.base_color.y, 0.0f, 1e-6);
+  EXPECT_NEAR(m.metallic, 1.0f, 1e-6);
+  EXPECT_NEAR(m.roughness, 1.0f, 1e-6);
   for (const auto& t : s.triangles) EXPECT_EQ(t.material, 1u);
 }
 

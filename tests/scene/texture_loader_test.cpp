@@ -176,8 +176,7 @@ TEST(GltfTextures, PatchMeanTexelIsTheAnalyticMeanOverThePatch) {
   Scene scene;
   SceneMaterial m;
   m.textures.base_color = 0;
-  for (int c = 0; c < 3; ++c) m.textures.specular_f0[c] = 0.0f;
-  m.textures.metallic_factor = 0.0f;
+  m.textures.metallic_factor = 0.0f;  // a Lambert glTF material (ggx false): kd = base colour
   scene.materials = {m};
   // an 8 x 1 linear (not sRGB) ramp in red: texel i holds 30 i, so between texel centres
   // red(u) = 30 (8u - 1/2) / 255 exactly

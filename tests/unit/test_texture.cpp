@@ -108,9 +108,9 @@ TEST(Texture, TextureTransformIsTranslationRotationScale) {
   EXPECT_NEAR(m[3], std::cos(r), 1e-6f);
 }
 
-// A 1 x 1 metallic-roughness texel (G roughness, B metallic) times the factors gives DESIGN.md §6's
-// kd, ks and shininess; the base colour texel its alpha.
-TEST(Texture, TexelMaterialFollowsTheMetallicRoughnessMapping) {
+// A 1 x 1 metallic-roughness texel (G roughness, B metallic) times the factors gives the point's
+// metallic and roughness, the base colour texel times its factor the base colour and alpha.
+TEST(Texture, TexelMaterialReadsMetallicRoughnessTexels) {
   const std::vector<std::uint32_t> texels = {rgba(200, 128, 64, 51), rgba(0, 204, 255, 255)};
   std::vector<TextureView> views = {view_of(1, 1, BP_WRAP_REPEAT, BP_WRAP_REPEAT),
                                     view_of(1, 1, BP_WRAP_REPEAT, BP_WRAP_REPEAT)};
@@ -120,22 +120,17 @@ TEST(Texture, TexelMaterialFollowsTheMetallicRoughnessMapping) {
   mt.metallic_roughness = 1;
   mt.metallic_factor = 0.5f;
   mt.roughness_factor = 0.5f;
-  for (int c = 0; c < 3; ++c) mt.specular_f0[c] = 0.04f;
+  mt.base_color_factor[1] = 0.5f;
   mt.base_color_factor[3] = 0.5f;
   const std::vector<MaterialTextures> materials = {mt};
   const std::vector<float> texcoords(6, 0.5f);
   const TextureSet set{views.data(), texels.data(), materials.data(), texcoords.data(), 1};
   const TexelMaterial t = texel_material(&set, &mt, 0, 0.3f, 0.3f);
-  const float metallic = 0.5f * 1.0f, roughness = 0.5f * 0.8f;  // B 255, G 204
-  const float base[3] = {200.0f / 255.0f, 128.0f / 255.0f, 64.0f / 255.0f};  // kd + ks below 1: no scaling
-  const float kd[3] = {t.kd.x, t.kd.y, t.kd.z}, ks[3] = {t.ks.x, t.ks.y, t.ks.z};
-  for (int c = 0; c < 3; ++c) {
-    EXPECT_NEAR(kd[c], base[c] * (1.0f - metallic), 1e-5f) << c;
-    EXPECT_NEAR(ks[c], metallic * base[c] + (1.0f - metallic) * 0.04f, 1e-5f) << c;
-  }
-  EXPECT_NEAR(t.roughness, roughness, 1e-5f);
-  const float a = roughness * roughness;
-  EXPECT_NEAR(t.shininess, 2.0f / (a * a) - 2.0f, 1e-3f);
+  EXPECT_NEAR(t.metallic, 0.5f * 1.0f, 1e-6f);   // B 255
+  EXPECT_NEAR(t.roughness, 0.5f * 0.8f, 1e-6f);  // G 204
+  const float base[3] = {200.0f / 255.0f, 0.5f * 128.0f / 255.0f, 64.0f / 255.0f};  // linear view, factor (1, 0.5, 1)
+  const float got[3] = {t.base_color.x, t.base_color.y, t.base_color.z};
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(got[c], base[c], 1e-6f) << c;
   EXPECT_NEAR(t.alpha, 0.5f * 0.2f, 1e-6f);
 }
 

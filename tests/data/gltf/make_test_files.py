@@ -267,10 +267,18 @@ def good_files():
         {"name": "coloured specular", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1],
                                                                "metallicFactor": 0.5},
          "extensions": {"KHR_materials_specular": {"specularFactor": 0.5, "specularColorFactor": [1, 0.5, 0]}}},
+        # KHR_materials_ior: water's 1.33 (f0 0.02), with a specular colour that f0 times it clamps to 1
+        {"name": "water", "pbrMetallicRoughness": {"baseColorFactor": [0.2, 0.3, 0.4, 1], "metallicFactor": 0,
+                                                   "roughnessFactor": 0.1},
+         "extensions": {"KHR_materials_ior": {"ior": 1.33},
+                        "KHR_materials_specular": {"specularColorFactor": [100, 1, 0.5]}}},
+        # specular 0 and metallic 0: glTF's model is Lambert exactly
+        {"name": "no specular", "pbrMetallicRoughness": {"baseColorFactor": [0.6, 0.6, 0.6, 1], "metallicFactor": 0},
+         "extensions": {"KHR_materials_specular": {"specularFactor": 0}}},
     ]
-    doc["extensionsUsed"] = ["KHR_materials_specular", "KHR_materials_emissive_strength"]
+    doc["extensionsUsed"] = ["KHR_materials_specular", "KHR_materials_emissive_strength", "KHR_materials_ior"]
     prim = doc["meshes"][0]["primitives"][0]
-    doc["meshes"][0]["primitives"] = [dict(prim, material=i) for i in range(7)] + [
+    doc["meshes"][0]["primitives"] = [dict(prim, material=i) for i in range(9)] + [
         {"attributes": {"POSITION": 0}, "indices": 1}]
     write_json("good/materials.gltf", embed(doc, blob))
 
@@ -418,6 +426,19 @@ def bad_files():
     def specular_colour(doc):
         doc["materials"][0]["extensions"] = {"KHR_materials_specular": {"specularColorFactor": [1, 1]}}
     bad("specular-colour", specular_colour)
+
+    # glTF's metallic-roughness factors out of their ranges, KHR_materials_ior below 1 (other than 0)
+    def material_with(pbr=None, extensions=None):
+        def mutate(doc):
+            if pbr:
+                doc["materials"][0]["pbrMetallicRoughness"].update(pbr)
+            if extensions:
+                doc["materials"][0]["extensions"] = extensions
+        return mutate
+    bad("ior-below-one", material_with(extensions={"KHR_materials_ior": {"ior": 0.5}}))
+    bad("metallic-negative", material_with(pbr={"metallicFactor": -0.25}))
+    bad("specular-factor-range", material_with(extensions={"KHR_materials_specular": {"specularFactor": 1.5}}))
+    bad("base-colour-negative", material_with(pbr={"baseColorFactor": [0.5, -0.1, 0.5, 1]}))
 
 
 def furnace_file():
