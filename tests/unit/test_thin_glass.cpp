@@ -1,6 +1,7 @@
 // The optics of a thin-walled pane (kernels/shared/thin_glass.h): Schlick's Fresnel with F0 from the
 // ior at its angle limits, energy (what passes plus what the mirror reflects never exceeds what
 // arrives, and equals it for a white pane of transmission 1), and the event choice.
+#include "kernels/shared/brdf.h"
 #include "kernels/shared/thin_glass.h"
 
 #include <gtest/gtest.h>
@@ -73,6 +74,33 @@ TEST(ThinGlass, TheChoiceFollowsTheAlbedosAndNeverPicksAnEmptyEvent) {
   EXPECT_EQ(no_mirror.mirror + no_mirror.rest, 0.0f);
   const PaneChoice black = pane_choice(make_float3(0.0f, 0.0f, 0.0f), 0.0f, 0.0f);
   EXPECT_EQ(black.pass + black.mirror + black.rest, 0.0f);
+}
+
+// A GGX transmitter's opaque rest (metallic_roughness.h): f and the continuation s are (1 - T) of the
+// same material's without the pane, for any directions; the density is the same.
+TEST(ThinGlass, AGgxTransmittersOpaqueRestIsItsBsdfTimesOneLessTheShare) {
+  Material opaque{};
+  opaque.flags = BP_MATERIAL_GGX;
+  for (int c = 0; c < 3; ++c) {
+    opaque.base_color[c] = 0.6f + 0.1f * float(c);
+    opaque.dielectric_f0[c] = 0.04f;
+  }
+  opaque.metallic = 0.0f;
+  opaque.roughness = 0.4f;
+  opaque.specular_weight = 1.0f;
+  Material glazed = opaque;
+  glazed.flags |= BP_MATERIAL_THIN_TRANSMITTER;
+  glazed.transmission = 0.75f;
+  const Bsdf a = bsdf_from_material(&opaque), b = bsdf_from_material(&glazed);
+  EXPECT_NEAR(b.continuation, 0.25f * a.continuation, 1e-6f);
+  const float3 n = make_float3(0.0f, 0.0f, 1.0f), wo = normalize(make_float3(0.3f, 0.1f, 0.9f));
+  for (const float3 wi : {normalize(make_float3(-0.3f, -0.1f, 0.9f)), normalize(make_float3(0.5f, -0.4f, 0.3f))}) {
+    const BsdfValue va = bsdf_evaluate(&a, n, wi, wo), vb = bsdf_evaluate(&b, n, wi, wo);
+    ASSERT_GT(va.f.x, 0.0f);
+    EXPECT_NEAR(vb.f.x, 0.25f * va.f.x, 1e-6f * va.f.x);
+    EXPECT_NEAR(vb.f.z, 0.25f * va.f.z, 1e-6f * va.f.z);
+    EXPECT_FLOAT_EQ(vb.pdf_uv, va.pdf_uv);
+  }
 }
 
 }  // namespace
