@@ -1,6 +1,7 @@
 #include "image/error_estimate.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -158,15 +159,101 @@ ImageErrorEstimate::ImageErrorEstimate(int width, int height, std::vector<Layer>
     estimates_.push_back(resumed ? BatchMeansErrorEstimate::from_state((*resumed)[l], width, height)
                                  : BatchMeansErrorEstimate(width, height, layers_[l].batch_rounds, levels, first_round,
                                                            first_round ? &layers_[l].sums : nullptr));
-  if (pt_rb_share_)  // PT's rounds are independent: batches of one round
+  const std::size_t rb = rb_layer();
+  if (pt_rb_share_ && rb < layers_.size())  // d batched with RB's layer: its batches pair with RB's (rb_bias_check)
     pt_rb_share_estimate_.emplace(resumed ? BatchMeansErrorEstimate::from_state(resumed->back(), width, height)
-                                          : BatchMeansErrorEstimate(width, height, 1, levels, first_round,
-                                                                    first_round ? &*pt_rb_share_ : nullptr));
+                                          : BatchMeansErrorEstimate(width, height, layers_[rb].batch_rounds, 1,
+                                                                    first_round, first_round ? &*pt_rb_share_ : nullptr));
+}
+
+std::size_t ImageErrorEstimate::rb_layer() const {
+  for (std::size_t l = 0; l < layers_.size(); ++l)
+    if (std::string(layers_[l].name) == "rb") return l;
+  return layers_.size();
 }
 
 void ImageErrorEstimate::add(std::uint64_t rounds) {
+  const std::size_t rb = rb_layer();
+  if (pt_rb_share_estimate_) {
+    const BatchMeansErrorEstimate::Level &r = estimates_[rb].state().levels[0], &d = pt_rb_share_estimate_->state().levels[0];
+    // Paired only where d's batches are RB's (a checkpoint of before they were is not).
+    const bool paired = d.batch_rounds == r.batch_rounds && d.open_round == r.open_round;
+    if (paired && rounds - r.open_round >= r.batch_rounds) add_rb_bias_batch(rb, rounds);
+  }
   for (std::size_t l = 0; l < layers_.size(); ++l) estimates_[l].add(rounds, layers_[l].sums);
-  if (pt_rb_share_) pt_rb_share_estimate_->add(rounds, *pt_rb_share_);
+  if (pt_rb_share_estimate_) pt_rb_share_estimate_->add(rounds, *pt_rb_share_);
+}
+
+// RB's batch k closes at `rounds`: E_k = mean over values of y_k·Y_<k / (R̂² + 0.01), y_k = s·r − d
+// summed over the batch, Y_<k over the batches before it (from the estimate's start).
+void ImageErrorEstimate::add_rb_bias_batch(std::size_t rb, std::uint64_t rounds) {
+  const BatchMeansErrorEstimate::State &r = estimates_[rb].state(), &d = pt_rb_share_estimate_->state();
+  const BatchMeansErrorEstimate::Level &rl = r.levels[0], &dl = d.levels[0];
+  const double n_k = double(rounds - rl.open_round), n_before = double(rl.closed_rounds);
+  if (n_before == 0.0) return;  // the first batch has none to pair with
+  const double inv_rounds = 1.0 / double(rounds);
+  const auto image = [&](std::size_t i) {  // I = Σ layers' sums · factors / rounds, as rel_mse_of
+    double sum = 0.0;
+    for (std::size_t l = 0; l < layers_.size(); ++l) sum += layers_[l].sums.at(i) * factor(l, i);
+    return sum * inv_rounds;
+  };
+  const std::size_t n = rl.open_sums.size();
+  double e = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double s = factor(rb, i);
+    const double r_start = r.start_sums.empty() ? 0.0 : r.start_sums[i], d_start = d.start_sums.empty() ? 0.0 : d.start_sums[i];
+    const double y = s * (layers_[rb].sums.at(i) - rl.open_sums[i]) - (pt_rb_share_->at(i) - dl.open_sums[i]);
+    const double y_before = s * (rl.open_sums[i] - r_start) - (dl.open_sums[i] - d_start);
+    const double ref = reference_value(image, width_, height_, i);
+    e += y * y_before / (ref * ref + 0.01);  // E[y_k Y_<k] = n_k N_<k b² (rb_bias_rel_mse), over R̂² + 0.01 as §7
+  }
+  e /= double(n);
+  const double a = n_k * n_before;
+  RbBiasSums& t = rb_bias_sums_;
+  t.e += e;
+  t.e_sq += e * e;
+  t.a += a;
+  t.a_e += a * e;
+  t.a_sq += a * a;
+  ++t.batches;
+}
+
+namespace {
+// The one-sided 99 % quantile of Student's t with `dof` degrees of freedom (kRbBiasFalseAlarm), the
+// table's entry at or below dof (so at least the quantile).
+double student_t_99(double dof) {
+  static constexpr std::array<std::pair<double, double>, 16> kTable{{{1, 31.82}, {2, 6.965}, {3, 4.541}, {4, 3.747},
+                                                                     {5, 3.365}, {6, 3.143}, {7, 2.998}, {8, 2.896},
+                                                                     {9, 2.821}, {10, 2.764}, {12, 2.681}, {15, 2.602},
+                                                                     {20, 2.528}, {30, 2.457}, {60, 2.390}, {120, 2.358}}};
+  double q = kTable.front().second;
+  for (const auto& [d, quantile] : kTable)
+    if (dof >= d) q = quantile;
+  return q;
+}
+static_assert(kRbBiasFalseAlarm == 0.01, "student_t_99's table is the 99 % quantile");
+}  // namespace
+
+ImageErrorEstimate::RbBiasCheck ImageErrorEstimate::rb_bias_check() const {
+  RbBiasCheck c;
+  const RbBiasSums& t = rb_bias_sums_;
+  c.batches = t.batches;
+  if (t.batches < 2 || !(t.a > 0.0)) return c;
+  // The pairs' products average to the bias's relMSE: Σ E_k / Σ a_k.
+  c.estimate = t.e / t.a;
+  // Without a bias the E_k are a martingale's increments (E[E_k | the batches before] = 0, whatever
+  // the pixels' correlation), so Var(Σ E_k) = Σ E[E_k²]; about a bias, their spread about a_k·estimate.
+  const double spread = t.e_sq - 2.0 * c.estimate * t.a_e + c.estimate * c.estimate * t.a_sq;
+  const double k = double(t.batches);
+  c.standard_error = std::sqrt(std::max(0.0, spread) * k / (k - 1.0)) / t.a;
+  return c;
+}
+
+double ImageErrorEstimate::rb_bias_rel_mse() const {
+  if (!pt_rb_share_estimate_) return std::nan("");
+  const RbBiasCheck c = rb_bias_check();
+  if (std::isnan(c.estimate) || c.batches < kRbBiasMinPairedBatches) return std::nan("");
+  return c.estimate > student_t_99(double(c.batches) - 1.0) * c.standard_error ? c.estimate : 0.0;
 }
 
 void ImageErrorEstimate::set_factors(const std::string& layer, std::vector<double> factors) {
@@ -227,41 +314,8 @@ double ImageErrorEstimate::rel_mse_of(const std::vector<double>& variance) const
 }
 
 double ImageErrorEstimate::estimated_rel_mse(int level) const {
-  const double variance = rel_mse_of(variance_of_mean(level)), bias = rb_bias_rel_mse(level);
+  const double variance = rel_mse_of(variance_of_mean(level)), bias = rb_bias_rel_mse();
   return std::isnan(bias) ? variance : variance + bias;
-}
-
-double ImageErrorEstimate::rb_bias_rel_mse(int level) const {
-  std::size_t rb = layers_.size();
-  for (std::size_t l = 0; l < layers_.size(); ++l)
-    if (std::string(layers_[l].name) == "rb") rb = l;
-  if (!pt_rb_share_ || rb == layers_.size() || estimates_[rb].rounds() == 0) return std::nan("");
-  const std::vector<double> var_r = layer_variance(rb, level), var_d = pt_rb_share_estimate_->variance_of_mean(level);
-  if (var_r.empty() || var_d.empty()) return std::nan("");
-  const double inv_rounds = 1.0 / double(estimates_[rb].rounds());
-  const double image_inv_rounds = 1.0 / double(estimates_.front().rounds());
-  const auto image = [&](std::size_t i) {  // I = Σ layers' sums · factors / rounds, as rel_mse_of
-    double sum = 0.0;
-    for (std::size_t l = 0; l < layers_.size(); ++l) sum += layers_[l].sums.at(i) * factor(l, i);
-    return sum * image_inv_rounds;
-  };
-  // Per pixel, the channels' mean of (s·r − d)² − s² Var(r) − Var(d) over R̂² + 0.01: E of the
-  // numerator = (s E[r] − E[d])², r and d independent (var_r has the s²).
-  const std::size_t pixels = std::size_t(width_) * std::size_t(height_);
-  double sum = 0.0, sum_sq = 0.0;
-  for (std::size_t p = 0; p < pixels; ++p) {
-    double term = 0.0;
-    for (std::size_t i = 3 * p; i < 3 * p + 3; ++i) {
-      const double diff = (factor(rb, i) * layers_[rb].sums.at(i) - pt_rb_share_->at(i)) * inv_rounds;
-      const double r = reference_value(image, width_, height_, i);
-      term += (diff * diff - var_r[i] - var_d[i]) / (r * r + 0.01) / 3.0;
-    }
-    sum += term;
-    sum_sq += term * term;
-  }
-  const double mean = sum / double(pixels);
-  const double standard_error = std::sqrt(std::max(0.0, sum_sq / double(pixels) - mean * mean) / double(pixels));
-  return mean > kRbBiasSignificance * standard_error ? mean : 0.0;
 }
 
 double ImageErrorEstimate::layer_rel_mse(std::size_t layer, int level) const {

@@ -8,6 +8,7 @@
 #include "image/image.h"
 #include "image/regions.h"
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -22,13 +23,19 @@ namespace bp {
 // hits are re-jittered every 16 iterations, so a batch must hold whole blocks of 16 anyway.
 constexpr std::uint64_t kErrorBatchRbIterations = 64;
 
-// rb_bias_rel_mse counts RB's bias from this many standard errors of its estimate up. The estimate
-// is a small difference of PT's large per-pixel variances ((s·r − d)² less Var(d), d from 8 PT
-// samples per pixel): on the 8spp + 256it Lambert house its 0.0008-0.0010 were 2-2.5 standard errors,
-// where the seeds' spread and the reference left no room for more than 0.0002 of bias, while the
-// glossy box's RB discretisation (0.002, which took the estimate from 0.5x the measured to 1.2x) is
-// about 10 of them.
-constexpr double kRbBiasSignificance = 3.0;
+// rb_bias_rel_mse counts RB's bias where its estimate is above this one-sided Student-t quantile
+// (a 1 % false alarm, student_t_99 in error_estimate.cpp) times its standard error, and only once
+// kRbBiasMinPairedBatches of RB's batches have paired with earlier ones: the standard error is the
+// spread of a few increments of unequal variance, and from fewer it is too often far too small. Both
+// come from RB's batches, so they see the chain's noise however far it spreads over the image. Before,
+// the standard error came from the pixels' spread, as if their errors were independent: RB's chain
+// moves whole rooms' light together, and on the 8spp + 256it Lambert house the check counted 0.0012
+// of "bias" on three seeds of eight (the estimate 3x the measured). From RB's four batches there, the
+// new check still counted 0.0012 on one seed of eight, its standard error 7e-5 from three increments.
+// On cornell-glossy at 8spp + 1024it (seven increments) it counts RB's discretisation, 0.0018-0.0028,
+// on three seeds of four.
+constexpr double kRbBiasFalseAlarm = 0.01;
+constexpr std::uint64_t kRbBiasMinPairedBatches = 5;
 // --target-error stops only once the estimate has this many degrees of freedom (eight batches of one
 // layer): the variance of fewer is too uncertain for a lucky low estimate to be unlikely.
 constexpr double kMinDegreesOfFreedomForTarget = 7.0;
@@ -113,7 +120,7 @@ class ImageErrorEstimate {
   // `first_round` (the layers' sums then are where its batches start), or from a checkpoint's
   // `resumed` states, one per layer and then the check's; throws std::runtime_error if they do not fit.
   // `pt_rb_share`, where given (a combined render), is PT's estimate of RB's share times the rounds,
-  // d = u − w per round (its unweighted less its weighted sums), batched like PT's layer: the check
+  // d = u − w per round (its unweighted less its weighted sums), batched with RB's layer: the check
   // of RB's layer against it (rb_bias_rel_mse).
   ImageErrorEstimate(int width, int height, std::vector<Layer> layers, int levels, std::uint64_t first_round,
                      const std::vector<BatchMeansErrorEstimate::State>* resumed = nullptr,
@@ -141,11 +148,25 @@ class ImageErrorEstimate {
   double estimated_rel_mse(int level = 0) const;
   // What RB's layer as it counts in the image (s·r per pixel) is off from PT's unbiased estimate of
   // the same share (d) beyond both noises: RB's discretisation (patches, their Gouraud interpolation,
-  // glossy lobes over a patch), which no variance sees. Per value, (s·r − d)² − s² Var(r) − Var(d)
-  // estimates the bias's square without bias (r and d are independent); summed as the relMSE sums
-  // variances, and counted where it is significant, kRbBiasSignificance of its standard error from
-  // the pixels' spread above 0 (else 0). NaN without the check or before two batches of each.
-  double rb_bias_rel_mse(int level = 0) const;
+  // glossy lobes over a patch), which no variance sees. From RB's batches k (n_k rounds; the check's
+  // d batched alike), y_k = s·r_k − d_k summed over the batch: E[y_k y_l] = n_k n_l b² for k ≠ l (the
+  // batches independent), so the pairs' products, each over the image as the relMSE sums (rb_bias_check),
+  // estimate the relMSE of the bias b without a noise term to subtract. Counted where significant
+  // (kRbBiasFalseAlarm), else 0; NaN without the check or before kRbBiasMinPairedBatches.
+  double rb_bias_rel_mse() const;
+  struct RbBiasCheck {
+    double estimate = NAN;        // Σ_k E_k / Σ_k a_k, E_k = mean over values of y_k·Y_<k / (R̂² + 0.01), a_k = n_k N_<k
+    double standard_error = NAN;  // from the spread of E_k about a_k·estimate (a martingale's increments)
+    std::uint64_t batches = 0;    // closed batches that paired with earlier ones
+  };
+  RbBiasCheck rb_bias_check() const;
+  // The check's sums over RB's closed batches (rb_bias_check): what a checkpoint keeps of it.
+  struct RbBiasSums {
+    double e = 0.0, e_sq = 0.0, a = 0.0, a_e = 0.0, a_sq = 0.0;
+    std::uint64_t batches = 0;
+  };
+  const RbBiasSums& rb_bias_sums() const { return rb_bias_sums_; }
+  void resume_rb_bias_sums(const RbBiasSums& sums) { rb_bias_sums_ = sums; }
   // Each layer's share of it: its variance over the image's reference values (NaN: fewer than two batches).
   double layer_rel_mse(std::size_t layer, int level = 0) const;
   // The degrees of freedom of estimated_rel_mse(): Welch–Satterthwaite's (Σ V_l)² / Σ (V_l² / (K_l − 1)),
@@ -172,7 +193,10 @@ class ImageErrorEstimate {
   std::optional<RoundSums> pt_rb_share_;
   std::optional<RegionGrid> rb_level_grid_;  // set_rb_regional_level's
   std::vector<double> rb_level_rho_r_, rb_level_rho_m_;
-  std::optional<BatchMeansErrorEstimate> pt_rb_share_estimate_;
+  std::optional<BatchMeansErrorEstimate> pt_rb_share_estimate_;  // d, batched with RB's layer
+  RbBiasSums rb_bias_sums_;
+  std::size_t rb_layer() const;  // layers_.size(): none
+  void add_rb_bias_batch(std::size_t rb, std::uint64_t rounds);
 };
 
 }  // namespace bp

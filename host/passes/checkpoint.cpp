@@ -9,14 +9,15 @@
 namespace bp {
 namespace {
 
-constexpr char kMagic[8] = {'B', 'P', 'C', 'K', 'P', 'T', '0', '5'};
+constexpr char kMagic[8] = {'B', 'P', 'C', 'K', 'P', 'T', '0', '6'};
 // Versions 01 (it ends before the error estimate's statistics), 02 (before --rb-level: it ends
-// before the RB level's), 03 (one error estimate of the layers' sum, not one per layer) and 04 (no
-// regional error) are read too.
+// before the RB level's), 03 (one error estimate of the layers' sum, not one per layer), 04 (no
+// regional error) and 05 (no sums of the check of RB's layer) are read too.
 constexpr char kMagicV1[8] = {'B', 'P', 'C', 'K', 'P', 'T', '0', '1'};
 constexpr char kMagicV2[8] = {'B', 'P', 'C', 'K', 'P', 'T', '0', '2'};
 constexpr char kMagicV3[8] = {'B', 'P', 'C', 'K', 'P', 'T', '0', '3'};
 constexpr char kMagicV4[8] = {'B', 'P', 'C', 'K', 'P', 'T', '0', '4'};
+constexpr char kMagicV5[8] = {'B', 'P', 'C', 'K', 'P', 'T', '0', '5'};
 // A walkthrough's further views follow the first's RB level, after this tag (a plain render's
 // checkpoint ends before it).
 constexpr char kViewsTag[8] = {'V', 'I', 'E', 'W', 'S', '0', '0', '1'};
@@ -175,6 +176,19 @@ std::optional<RegionalError::State> read_regional_error(Reader& r) {
   return s;
 }
 
+// Format 06: the check of RB's layer (ImageErrorEstimate::RbBiasSums).
+void write_rb_bias_sums(Writer& w, const ImageErrorEstimate::RbBiasSums& t) {
+  for (double v : {t.e, t.e_sq, t.a, t.a_e, t.a_sq}) w.value(v);
+  w.value(t.batches);
+}
+
+ImageErrorEstimate::RbBiasSums read_rb_bias_sums(Reader& r) {
+  ImageErrorEstimate::RbBiasSums t;
+  for (double* v : {&t.e, &t.e_sq, &t.a, &t.a_e, &t.a_sq}) *v = r.value<double>();
+  t.batches = r.value<std::uint64_t>();
+  return t;
+}
+
 }  // namespace
 
 void write_checkpoint(const std::string& path, const Checkpoint& c) {
@@ -194,6 +208,7 @@ void write_checkpoint(const std::string& path, const Checkpoint& c) {
   write_error_estimate(w, c.error_estimate);
   write_rb_level(w, c.rb_level);
   write_regional_error(w, c.regional_error);
+  write_rb_bias_sums(w, c.rb_bias_sums);
   if (!c.further_views.empty()) {
     w.bytes.append(kViewsTag, sizeof kViewsTag);
     w.value(std::uint64_t(c.further_views.size()));
@@ -203,6 +218,7 @@ void write_checkpoint(const std::string& path, const Checkpoint& c) {
       write_error_estimate(w, view.error_estimate);
       write_rb_level(w, view.rb_level);
       write_regional_error(w, view.regional_error);
+      write_rb_bias_sums(w, view.rb_bias_sums);
     }
   }
   write_file_atomically(path, "checkpoint", [&](const std::string& tmp) {
@@ -220,8 +236,8 @@ Checkpoint read_checkpoint(const std::string& path) {
     return bytes.size() >= sizeof magic && std::memcmp(bytes.data(), magic, sizeof magic) == 0;
   };
   const bool v1 = starts_with(kMagicV1), v2 = starts_with(kMagicV2), v3 = starts_with(kMagicV3),
-             v4 = starts_with(kMagicV4);
-  if (!v1 && !v2 && !v3 && !v4 && !starts_with(kMagic))
+             v4 = starts_with(kMagicV4), v5 = starts_with(kMagicV5);
+  if (!v1 && !v2 && !v3 && !v4 && !v5 && !starts_with(kMagic))
     throw std::runtime_error(path + ": not a bundlepath checkpoint");
   Reader r{bytes, path, sizeof kMagic};
   Checkpoint c;
@@ -240,6 +256,8 @@ Checkpoint read_checkpoint(const std::string& path) {
   if (!v1) c.error_estimate = read_error_estimate(r, v2 || v3);
   if (!v1 && !v2) c.rb_level = read_rb_level(r);
   if (!v1 && !v2 && !v3 && !v4) c.regional_error = read_regional_error(r);
+  const bool has_rb_bias_sums = !v1 && !v2 && !v3 && !v4 && !v5;
+  if (has_rb_bias_sums) c.rb_bias_sums = read_rb_bias_sums(r);
   if (!v1 && !v2 && bytes.size() - r.at >= sizeof kViewsTag &&
       std::memcmp(bytes.data() + r.at, kViewsTag, sizeof kViewsTag) == 0) {
     r.at += sizeof kViewsTag;
@@ -251,6 +269,7 @@ Checkpoint read_checkpoint(const std::string& path) {
       view.error_estimate = read_error_estimate(r, v3);
       view.rb_level = read_rb_level(r);
       if (!v3 && !v4) view.regional_error = read_regional_error(r);
+      if (has_rb_bias_sums) view.rb_bias_sums = read_rb_bias_sums(r);
       c.further_views.push_back(std::move(view));
     }
   }

@@ -28,6 +28,9 @@ struct Checkpoint {
   std::optional<RbLevel::State> rb_level;
   // The regional error's batch statistics (image/regional_error.h); absent before format 05.
   std::optional<RegionalError::State> regional_error;
+  // The check of RB's layer against PT's estimate of its share (ImageErrorEstimate::rb_bias_check);
+  // zero before format 06.
+  ImageErrorEstimate::RbBiasSums rb_bias_sums;
   // A walkthrough's views after the first (DESIGN.md §8; the first is pt, rb, error_estimate above):
   // each one's accumulators and error estimate. The ray-bundle state is the views' one chain.
   struct View {
@@ -35,6 +38,7 @@ struct Checkpoint {
     std::vector<BatchMeansErrorEstimate::State> error_estimate;
     std::optional<RbLevel::State> rb_level;
     std::optional<RegionalError::State> regional_error;
+    ImageErrorEstimate::RbBiasSums rb_bias_sums;
   };
   std::vector<View> further_views;
 };

@@ -121,6 +121,8 @@ void start_error_estimate(RenderState& s) {
     if (saved && saved->size() != layers.size() + (pt_rb_share ? 1 : 0)) saved = nullptr;
     view.error_estimate.emplace(s.scene.width, s.scene.height, std::move(layers), o.error_levels, s.first_round,
                                 saved, pt_rb_share);
+    if (saved)  // the check's sums (zero from a checkpoint of before format 06: it pairs on from here)
+      view.error_estimate->resume_rb_bias_sums(k ? s.resumed->further_views[k - 1].rb_bias_sums : s.resumed->rb_bias_sums);
     // The regional error (image/regional_error.h), on the --regions grid: RB's batches of
     // kRegionalBatchRbIterations, in rounds.
     RegionalError::Inputs in;
@@ -172,6 +174,7 @@ void save_checkpoint(RenderState& s, std::uint64_t rounds, double seconds) {
     if (!s.pt.empty()) saved.pt = view.pt_accum;
     if (s.rb) saved.rb = view.rb_accum;
     saved.error_estimate = view.error_estimate->state();
+    saved.rb_bias_sums = view.error_estimate->rb_bias_sums();
     if (view.rb_level) saved.rb_level = view.rb_level->state();
     saved.regional_error = view.regional_error->state();
     if (k) {
@@ -180,6 +183,7 @@ void save_checkpoint(RenderState& s, std::uint64_t rounds, double seconds) {
       c.pt = std::move(saved.pt);
       c.rb = std::move(saved.rb);
       c.error_estimate = std::move(saved.error_estimate);
+      c.rb_bias_sums = saved.rb_bias_sums;
       c.rb_level = std::move(saved.rb_level);
       c.regional_error = std::move(saved.regional_error);
     }

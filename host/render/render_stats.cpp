@@ -114,6 +114,10 @@ void add_error_estimate_stats(const RenderState& s, nlohmann::json& stats) {
   stats["error_estimate"] = {{"degrees_of_freedom", e.degrees_of_freedom()}, {"levels", levels}, {"layers", layers}};
   // Part of estimated_rel_mse: RB's layer against PT's estimate of its share (null: no check).
   stats["error_estimate"]["rb_bias_rel_mse"] = e.rb_bias_rel_mse();
+  const ImageErrorEstimate::RbBiasCheck check = e.rb_bias_check();  // what it was counted from (null: not yet)
+  stats["error_estimate"]["rb_bias_check"] = {{"estimate", check.estimate},
+                                              {"standard_error", check.standard_error},
+                                              {"batches", check.batches}};
 }
 
 // --rb-level (image/rb_level.h): per channel, the factor on RB's layer and the two levels it weighs

@@ -83,7 +83,7 @@ TEST(TargetError, CornellBoxStopsNearTheTargetError) {
     std::vector<double> variance(se.rgb.size());
     for (std::size_t i = 0; i < se.rgb.size(); ++i) variance[i] = double(se.rgb[i]) * se.rgb[i];
     const nlohmann::json bias = read_json(dir + "/seed1.json")["error_estimate"]["rb_bias_rel_mse"];
-    EXPECT_EQ(bias.is_number(), mode != "--mode pt") << mode;
+    if (mode == "--mode pt") EXPECT_TRUE(bias.is_null());  // a combined render's, once it has the batches
     const double variance_part = estimated[0] - (bias.is_number() ? bias.get<double>() : 0.0);
     EXPECT_NEAR(estimated_rel_mse_of(a, variance), variance_part, 1e-3 * variance_part) << mode;
   }
