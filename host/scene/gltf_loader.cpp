@@ -957,12 +957,11 @@ class Loader {
       std::vector<glm::vec2> t;
       std::vector<std::array<std::uint32_t, 3>> faces;
       for (const auto& c : corners) {
-        const glm::vec3 flat = glm::cross(pos[c[1]] - pos[c[0]], pos[c[2]] - pos[c[0]]);
-        const float len = glm::length(flat);
+        const glm::vec3 flat = glm::cross(pos[c[1]] - pos[c[0]], pos[c[2]] - pos[c[0]]);  // unit at placement
         const std::uint32_t first = std::uint32_t(p.size());
         for (std::uint32_t v : c) {
           p.push_back(pos[v]);
-          n.push_back(len > 0.0f ? flat / len : glm::vec3(0.0f));  // zero area: dropped at placement
+          n.push_back(flat);
           t.push_back(uv[v]);
         }
         faces.push_back({first, first + 1, first + 2});
@@ -980,12 +979,7 @@ class Loader {
       return;
     }
     if (tangents.empty()) {
-      std::vector<glm::vec3> unit(normals.size());
-      for (std::size_t v = 0; v < normals.size(); ++v) {
-        const float len = glm::length(normals[v]);
-        unit[v] = len > 0.0f ? normals[v] / len : glm::vec3(0.0f);
-      }
-      GeneratedTangents g = generate_tangents(pos, unit, uv, corners);
+      GeneratedTangents g = generate_tangents(pos, normals, uv, corners);
       tangent_fallbacks_ += g.fallbacks;
       tangents = std::move(g.tangents);
     }

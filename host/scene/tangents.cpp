@@ -12,12 +12,14 @@ glm::vec3 any_tangent(const glm::vec3& n) {
 
 namespace {
 
-// v without its component along unit n, normalised; zero where nothing is left.
-glm::vec3 in_plane(const glm::vec3& v, const glm::vec3& n) {
-  const glm::vec3 p = v - n * glm::dot(n, v);
-  const float len = glm::length(p);
-  return len > 1e-20f && std::isfinite(len) ? p / len : glm::vec3(0.0f);
+// v normalised; zero where it has no length.
+glm::vec3 unit_or_zero(const glm::vec3& v) {
+  const float len = glm::length(v);
+  return len > 1e-20f && std::isfinite(len) ? v / len : glm::vec3(0.0f);
 }
+
+// v without its component along unit n, normalised; zero where nothing is left.
+glm::vec3 in_plane(const glm::vec3& v, const glm::vec3& n) { return unit_or_zero(v - n * glm::dot(n, v)); }
 
 float corner_angle(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) {  // at a
   const float lb = glm::length(b - a), lc = glm::length(c - a);
@@ -27,11 +29,12 @@ float corner_angle(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) {
 
 }  // namespace
 
-GeneratedTangents generate_tangents(const std::vector<glm::vec3>& positions, const std::vector<glm::vec3>& normals,
+GeneratedTangents generate_tangents(const std::vector<glm::vec3>& positions, const std::vector<glm::vec3>& given_normals,
                                     const std::vector<glm::vec2>& uvs,
                                     const std::vector<std::array<std::uint32_t, 3>>& triangles) {
   const std::size_t n = positions.size();
-  std::vector<glm::vec3> sum_t(n, glm::vec3(0.0f)), sum_b(n, glm::vec3(0.0f));
+  std::vector<glm::vec3> sum_t(n, glm::vec3(0.0f)), sum_b(n, glm::vec3(0.0f)), normals(n);
+  for (std::size_t v = 0; v < n; ++v) normals[v] = unit_or_zero(given_normals[v]);
   for (const auto& tri : triangles) {
     const glm::vec3 e1 = positions[tri[1]] - positions[tri[0]], e2 = positions[tri[2]] - positions[tri[0]];
     const glm::vec2 d1 = uvs[tri[1]] - uvs[tri[0]], d2 = uvs[tri[2]] - uvs[tri[0]];

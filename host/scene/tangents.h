@@ -20,7 +20,7 @@ struct GeneratedTangents {
 // as weight over every triangle that shares the vertex (by index); then T Gram-Schmidt against the
 // vertex normal and w = sign(dot(cross(n, T), B)). This is MikkTSpace's accumulation, and on typical
 // meshes its answer; it is not MikkTSpace bit for bit where MikkTSpace splits a vertex (a seam of
-// mirrored UVs, or triangles of opposite handedness sharing an index).
+// mirrored UVs, or triangles of opposite handedness sharing an index). Normals of any length.
 GeneratedTangents generate_tangents(const std::vector<glm::vec3>& positions, const std::vector<glm::vec3>& normals,
                                     const std::vector<glm::vec2>& uvs,
                                     const std::vector<std::array<std::uint32_t, 3>>& triangles);
