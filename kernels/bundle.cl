@@ -592,7 +592,7 @@ __kernel void rb_eye_hits(__global const BvhNode* nodes, __global const BvhTrian
                           __global float4* eye_normals, const uint uv_slots, __global const TextureView* texture_views,
                           __global const uint* texels, __global const MaterialTextures* material_textures,
                           __global const float* texcoords, __global float4* eye_texels, const uint alpha_masks,
-                          const float ray_epsilon) {
+                          const float ray_epsilon, __global const float* tangents) {
   uint pixel = (uint)get_global_id(0);
   if (pixel >= camera.width * camera.height) return;
   Rng rng = rng_init(seed, pixel, jitter_index);
@@ -609,17 +609,17 @@ __kernel void rb_eye_hits(__global const BvhNode* nodes, __global const BvhTrian
   float3 shading_normal = make_float3(0.0f, 0.0f, 1.0f);
   // the texel's base colour (.w metallic), roughness (.w: 1, 0 untextured) and emission
   float4 texel_base = (float4)(0.0f), texel_roughness = (float4)(0.0f), texel_emission = (float4)(0.0f);
-  const TextureSet mask_textures = {texture_views, texels, material_textures, texcoords, uv_slots};
+  const TextureSet textures = {texture_views, texels, material_textures, texcoords, uv_slots};
   // through thin panes (DESIGN.md §11): the eye sees what is behind a pane, attenuated, or the pane's
   // opaque rest; never its mirror, which is PT's alone
   float3 filter = make_float3(1.0f, 1.0f, 1.0f);
   uint pane_event, rays = 0u;
-  const int hits_surface = closest_hit_through_panes(nodes, triangles, shading, materials, &mask_textures, alpha_masks,
+  const int hits_surface = closest_hit_through_panes(nodes, triangles, shading, materials, &textures, alpha_masks,
                                                      origin, dir, ray_epsilon, 0, &rng, &filter, &pane_event, &hit, &rays);
   out.filter[0] = filter.x; out.filter[1] = filter.y; out.filter[2] = filter.z;
   if (hits_surface) {
-    SurfaceHit s = surface_at_shaded(shading, shading_normals, has_normals, hit.triangle, hit.b1, hit.b2,
-                                     origin + dir * hit.t, dir);
+    SurfaceHit s = surface_at_shaded(shading, shading_normals, has_normals, &textures, tangents, hit.triangle,
+                                     hit.b1, hit.b2, origin + dir * hit.t, dir);
     shading_normal = s.shading_normal;
     out.element = 0u;
     if (s.reflects || (materials[s.material].flags & BP_MATERIAL_DOUBLE_SIDED)) {
@@ -630,7 +630,6 @@ __kernel void rb_eye_hits(__global const BvhNode* nodes, __global const BvhTrian
       MaterialTextures mt;
       if (BP_FEATURE_TEXTURES && uv_slots > 0u && material_is_textured((mt = material_textures[s.material], &mt))) {
         // the eye gather reflects with the texel at the hit (DESIGN.md §6), its weights with the patch's mean
-        const TextureSet textures = {texture_views, texels, material_textures, texcoords, uv_slots};
         TexelMaterial tm = texel_material(&textures, &mt, hit.triangle, hit.b1, hit.b2);
         texel_base = (float4)(tm.base_color.x, tm.base_color.y, tm.base_color.z, tm.metallic);
         texel_roughness = (float4)(tm.roughness, 0.0f, 0.0f, 1.0f);

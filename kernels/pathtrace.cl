@@ -19,6 +19,7 @@ typedef struct {
   BP_GLOBAL const TriangleShading* shading;
   BP_GLOBAL const Material* materials;
   BP_GLOBAL const float* shading_normals;  // NORMAL corners, 9 floats per triangle (params.shading_normals)
+  BP_GLOBAL const float* tangents;         // TANGENT corners of normal-mapped triangles, 12 floats each (normal_map.h)
   LightSet lights;  // with the per-patch receivers that light selection reads, and the textures
   BP_GLOBAL const Material* patch_materials;  // textures: per patch, its mean material (host/scene/textures.h)
   bp_u32 alpha_masks;  // 1: some material has alphaMode MASK (alpha_mask.h)
@@ -169,7 +170,8 @@ static PathRadiance trace_path(const SceneRefs* scene, const PathTraceParams* pa
       break;
     }
     SurfaceHit surface = surface_at_shaded(scene->shading, scene->shading_normals, params->shading_normals,
-                                           hit.triangle, hit.b1, hit.b2, origin + dir * hit.t, dir);
+                                           &scene->lights.textures, scene->tangents, hit.triangle, hit.b1, hit.b2,
+                                           origin + dir * hit.t, dir);
     if (BP_FEATURE_TRANSMISSION && pane_event == BP_PANE_MIRROR) {
       // The pane's mirror (DESIGN.md §11), throughput already times F T / P(mirror): a delta vertex,
       // PT's alone. beta 0 (w_RB = 0 from here on), no light sample, and the vertex after it sees
@@ -256,10 +258,10 @@ __kernel void pathtrace(__global const BvhNode* nodes, __global const BvhTriangl
                         __global const float* shading_normals, __global const TextureView* texture_views,
                         __global const uint* texels, __global const MaterialTextures* material_textures,
                         __global const float* texcoords, __global const Material* patch_materials,
-                        const uint alpha_masks, __global const float* environment) {
+                        const uint alpha_masks, __global const float* environment, __global const float* tangents) {
   bp_u32 pixel = (bp_u32)get_global_id(0);
   if (pixel >= camera.width * camera.height) return;
-  SceneRefs scene = {nodes, triangles, shading, materials, shading_normals,
+  SceneRefs scene = {nodes, triangles, shading, materials, shading_normals, tangents,
                      light_set(lights, light_cdf, light_tree, light_receivers, params.light_count, light_selection),
                      patch_materials, alpha_masks};
   const TextureSet textures = {texture_views, texels, material_textures, texcoords, params.uv_slots};

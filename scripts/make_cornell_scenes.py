@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""Writes scenes/cornell-box.gltf, scenes/cornell-glossy.gltf and scenes/cornell-ggx.gltf (python3 stdlib only).
+"""Writes scenes/cornell-box.gltf, scenes/cornell-glossy.gltf, scenes/cornell-ggx.gltf and
+scenes/cornell-normal-map.gltf (python3 stdlib only).
 
 Geometry: the published Cornell Box data (/work/shared/data/cornell-box.md), mm -> m, y up.
 Every quad is checked to face the way it must: walls into the box, block faces out of the
@@ -16,6 +17,7 @@ import math
 import os
 import struct
 import sys
+import zlib
 
 MM = 0.001
 LIGHT_Y = 548.7  # 0.1 mm below the ceiling, so the two never coincide
@@ -104,6 +106,56 @@ GGX_MATERIALS = {
 GGX_KEYS = {"floor": "glossy white", "back": "glossy white", "white": "white", "block": "gold",
             "short block": "red plastic",
             "red": "red", "green": "green", "light": "light"}
+
+# The plain box with glTF materials (Lambert: metallic 0, specularFactor 0) and a back wall of bumps: a
+# normalTexture (an egg-crate height field, written below as a PNG) repeated 4 x 4 times over the wall.
+# No NORMAL and no TANGENT: the loader takes flat normals and generates the tangents, as glTF asks.
+BUMP_REPEATS = 4.0
+BUMP_TEXELS = 64
+BUMP_HEIGHT = 0.12  # of the height field, in texture widths: slopes up to 2 pi 0.12 / (1/2) ~ 1.5 (56 degrees)
+
+
+def back_wall_uv(p):
+    """u to the viewer's right (-x), v down the wall (-y): the image upright as the camera sees it."""
+    return ((0.556 - p[0]) / 0.556 * BUMP_REPEATS, (0.5488 - p[1]) / 0.5488 * BUMP_REPEATS)
+
+
+NORMAL_MAP_MATERIALS = {
+    "bumpy white": {"pbr": pbr(WHITE, 0.0, 1.0, 0.0), "normal map": back_wall_uv},
+    "white": {"pbr": pbr(WHITE, 0.0, 1.0, 0.0)}, "red": {"pbr": pbr(RED, 0.0, 1.0, 0.0)},
+    "green": {"pbr": pbr(GREEN, 0.0, 1.0, 0.0)},
+    "light": LIGHT,
+}
+NORMAL_MAP_KEYS = {"floor": "white", "back": "bumpy white", "white": "white", "block": "white", "short block": "white",
+                   "red": "red", "green": "green", "light": "light"}
+
+
+def egg_crate_normals(n, height):
+    """RGB rows of a tangent-space normal map of h(x, y) = height sin(2 pi 2x) sin(2 pi 2y) over the unit
+    texture (x right, y up the image): n = normalize(-dh/dx, -dh/dy, 1), stored as (n + 1)/2 (glTF)."""
+    rows = []
+    for row in range(n):
+        y = 1.0 - (row + 0.5) / n  # rows run down the image
+        line = bytearray()
+        for col in range(n):
+            x = (col + 0.5) / n
+            k = 4.0 * math.pi
+            dx = height * k * math.cos(k * x) * math.sin(k * y)
+            dy = height * k * math.sin(k * x) * math.cos(k * y)
+            length = math.sqrt(dx * dx + dy * dy + 1.0)
+            line += bytes(round((c / length * 0.5 + 0.5) * 255) for c in (-dx, -dy, 1.0))
+        rows.append(bytes(line))
+    return rows
+
+
+def png(rows, width):
+    """An 8-bit RGB PNG of `rows` (zlib, no filtering)."""
+    def chunk(kind, data):
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xffffffff)
+    header = struct.pack(">IIBBBBB", width, len(rows), 8, 2, 0, 0, 0)
+    raw = b"".join(b"\0" + r for r in rows)
+    return b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) + chunk(b"IDAT", zlib.compress(raw, 9)) + chunk(b"IEND", b"")
+
 
 # Egg: an ellipsoid standing on the floor in the open space in front of the short block, on the
 # red (image-left, +x) side.
@@ -194,6 +246,8 @@ def gltf(materials, keys, extra_meshes):
                 mat["extensions"] = {"KHR_materials_specular": {"specularFactor": p["specular"]}}
                 if "KHR_materials_specular" not in doc["extensionsUsed"]:
                     doc["extensionsUsed"].append("KHR_materials_specular")
+            if "normal map" in m:
+                add_normal_texture(doc, mat)
             doc["materials"].append(mat)
             continue
         ph = m["phong"]
@@ -220,18 +274,27 @@ def gltf(materials, keys, extra_meshes):
         pos_offset = len(blob)
         for p in verts:
             blob += struct.pack("<3f", *p)
+        uv = materials[name].get("normal map")
+        uv_offset = len(blob)
+        for p in verts if uv else []:
+            blob += struct.pack("<2f", *uv(p))
         idx_offset = len(blob)
         blob += struct.pack(f"<{len(indices)}H", *indices)
         blob += b"\0" * (-len(blob) % 4)
         views, accs = doc["bufferViews"], doc["accessors"]
-        views.append({"buffer": 0, "byteOffset": pos_offset, "byteLength": idx_offset - pos_offset, "target": 34962})
-        views.append({"buffer": 0, "byteOffset": idx_offset, "byteLength": 2 * len(indices), "target": 34963})
-        accs.append({"bufferView": len(views) - 2, "componentType": 5126, "count": len(verts), "type": "VEC3",
+        views.append({"buffer": 0, "byteOffset": pos_offset, "byteLength": uv_offset - pos_offset, "target": 34962})
+        accs.append({"bufferView": len(views) - 1, "componentType": 5126, "count": len(verts), "type": "VEC3",
                      "min": [min(v[i] for v in verts) for i in range(3)],
                      "max": [max(v[i] for v in verts) for i in range(3)]})
+        attributes = {"POSITION": len(accs) - 1}
+        if uv:
+            views.append({"buffer": 0, "byteOffset": uv_offset, "byteLength": idx_offset - uv_offset, "target": 34962})
+            accs.append({"bufferView": len(views) - 1, "componentType": 5126, "count": len(verts), "type": "VEC2"})
+            attributes["TEXCOORD_0"] = len(accs) - 1
+        views.append({"buffer": 0, "byteOffset": idx_offset, "byteLength": 2 * len(indices), "target": 34963})
         accs.append({"bufferView": len(views) - 1, "componentType": 5123, "count": len(indices), "type": "SCALAR"})
         doc["meshes"].append({"name": name, "primitives": [
-            {"attributes": {"POSITION": len(accs) - 2}, "indices": len(accs) - 1, "material": mi}]})
+            {"attributes": attributes, "indices": len(accs) - 1, "material": mi}]})
         doc["nodes"].append({"name": name, "mesh": len(doc["meshes"]) - 1})
     # glTF cameras look down -z: half a turn about y makes this one look along +z, up +y, so
     # the red wall (+x) is on the image's left.
@@ -241,6 +304,16 @@ def gltf(materials, keys, extra_meshes):
     doc["buffers"].append({"byteLength": len(blob),
                            "uri": "data:application/octet-stream;base64," + base64.b64encode(bytes(blob)).decode()})
     return doc
+
+
+def add_normal_texture(doc, mat):
+    """The egg-crate normal map as a PNG data: URI, bilinear and repeating, on material `mat`."""
+    data = png(egg_crate_normals(BUMP_TEXELS, BUMP_HEIGHT), BUMP_TEXELS)
+    doc.setdefault("samplers", []).append({"magFilter": 9729, "minFilter": 9729, "wrapS": 10497, "wrapT": 10497})
+    doc.setdefault("images", []).append({"name": "egg-crate bumps",
+                                         "uri": "data:image/png;base64," + base64.b64encode(data).decode()})
+    doc.setdefault("textures", []).append({"sampler": len(doc["samplers"]) - 1, "source": len(doc["images"]) - 1})
+    mat["normalTexture"] = {"index": len(doc["textures"]) - 1, "scale": 1.0}
 
 
 def write(doc, path):
@@ -261,6 +334,7 @@ def main():
     write(gltf(BOX_MATERIALS, BOX_KEYS, {}), os.path.join(out, "cornell-box.gltf"))
     write(gltf(GLOSSY_MATERIALS, GLOSSY_KEYS, {"egg": egg_triangles()}), os.path.join(out, "cornell-glossy.gltf"))
     write(gltf(GGX_MATERIALS, GGX_KEYS, {"egg": egg_triangles()}), os.path.join(out, "cornell-ggx.gltf"))
+    write(gltf(NORMAL_MAP_MATERIALS, NORMAL_MAP_KEYS, {}), os.path.join(out, "cornell-normal-map.gltf"))
 
 
 if __name__ == "__main__":

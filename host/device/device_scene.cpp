@@ -72,6 +72,15 @@ std::vector<float> pack_shading_normals(const Scene& scene) {
   return out;
 }
 
+std::vector<float> pack_tangents(const Scene& scene) {
+  std::vector<float> out;
+  if (!scene.has_normal_maps()) return out;
+  out.reserve(12 * scene.triangles.size());
+  for (const SceneTriangle& t : scene.triangles)
+    for (const glm::vec4& c : t.tangent) out.insert(out.end(), {c.x, c.y, c.z, c.w});
+  return out;
+}
+
 CameraParams pack_camera(const SceneCamera& camera, int width, int height) {
   CameraParams p{};
   glm::vec3 forward = glm::normalize(camera.forward);
@@ -135,6 +144,7 @@ DeviceScene::DeviceScene(const DeviceContext& device, const Scene& scene, const 
   environment = upload_buffer(device, "environment map", environment_in);
   environment_bytes = environment_map->empty() ? 0 : environment_in.size() * sizeof(float);
   normals_in = at_least_one(std::move(normals_in));
+  const std::vector<float> tangents_in = at_least_one(pack_tangents(scene));
   const bool textured = scene.has_textures();
   uv_slots = textured ? scene.uv_slots : 0u;
   alpha_masks = scene.has_alpha_masks() ? 1u : 0u;
@@ -175,6 +185,7 @@ DeviceScene::DeviceScene(const DeviceContext& device, const Scene& scene, const 
   light_tree = upload_buffer(device, "light tree", tree_in);
   light_receivers = upload_buffer(device, "light receivers", receivers_in);
   shading_normals = upload_buffer(device, "shading normals", normals_in);
+  tangents = upload_buffer(device, "tangents", tangents_in);
   triangle_count = shading_in.size();
   node_count = bvh.nodes.size();
   light_count = std::uint32_t(light_list.lights.size());
@@ -182,7 +193,7 @@ DeviceScene::DeviceScene(const DeviceContext& device, const Scene& scene, const 
           shading_in.size() * sizeof(TriangleShading) + materials_in.size() * sizeof(Material) +
           lights_in.size() * sizeof(Light) + cdf_in.size() * sizeof(float) +
           tree_in.size() * sizeof(LightTreeNode) + receivers_in.size() * sizeof(LightReceiver) +
-          normals_in.size() * sizeof(float) + texture_bytes + environment_bytes;  // (textures' stand-ins: a few bytes, not counted)
+          (normals_in.size() + tangents_in.size()) * sizeof(float) + texture_bytes + environment_bytes;  // (textures' stand-ins: a few bytes, not counted)
 }
 
 }  // namespace bp

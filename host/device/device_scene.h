@@ -18,6 +18,9 @@ std::vector<TriangleShading> pack_triangle_shading(const Scene& scene, const Pat
 // Per triangle its three corners' shading normals (9 floats, front side; the flat normal where the
 // triangle has no NORMAL), or nothing when no triangle has them (the kernels then never read them).
 std::vector<float> pack_shading_normals(const Scene& scene);
+// Per triangle its three corners' TANGENT (12 floats: xyz w), or nothing when no material has a
+// normal map (kernels/shared/normal_map.h reads them for normal-mapped materials only).
+std::vector<float> pack_tangents(const Scene& scene);
 CameraParams pack_camera(const SceneCamera& camera, int width, int height);
 // Offset for secondary rays: relative to the scene's size and coordinate magnitude, so it works at
 // every scale (1e-3 to 1e4 m).
@@ -28,6 +31,7 @@ struct DeviceScene {
   cl::Buffer lights, light_cdf;  // one dummy entry each when the scene has no light to sample
   cl::Buffer shading_normals;  // pack_shading_normals (one dummy entry without them)
   std::uint32_t has_shading_normals = 0;  // 1: the kernels interpolate shading_normals
+  cl::Buffer tangents;  // pack_tangents (one dummy entry without normal maps)
   // Textures (host/scene/textures.h; one dummy entry each without them): views, RGBA8 texels, each
   // material's textures, per-triangle texcoords, and per patch its mean material.
   cl::Buffer texture_views, texels, material_textures, texcoords, patch_materials;

@@ -13,6 +13,7 @@ KernelFeatures features_for(const Scene& scene, bool light_sampling) {
   f.light_sampling = light_sampling;
   f.shading_normals = scene.has_shading_normals();
   f.textures = scene.has_textures();
+  f.normal_maps = scene.has_normal_maps();
   f.environment = scene.has_environment();
   f.transmission = scene.has_transmission();
   return f;
@@ -23,6 +24,7 @@ std::string kernel_options(const KernelFeatures& f) {
          " -DBP_FEATURE_LIGHT_SAMPLING=" + (f.light_sampling ? "1" : "0") +
          " -DBP_FEATURE_SHADING_NORMALS=" + (f.shading_normals ? "1" : "0") +
          " -DBP_FEATURE_TEXTURES=" + (f.textures ? "1" : "0") +
+         " -DBP_FEATURE_NORMAL_MAPS=" + (f.normal_maps ? "1" : "0") +
          " -DBP_FEATURE_ENVIRONMENT=" + (f.environment ? "1" : "0") +
          " -DBP_FEATURE_TRANSMISSION=" + (f.transmission ? "1" : "0");
 }

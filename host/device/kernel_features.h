@@ -12,6 +12,7 @@ struct KernelFeatures {
   bool light_sampling = true;  // next-event estimation / per-patch shadow rays (kernels/shared/lights.h)
   bool shading_normals = true; // interpolated NORMAL corners (kernels/shared/surface.h); off: flat normals only
   bool textures = true;        // glTF textures (kernels/shared/texture.h); off: every material is its factors
+  bool normal_maps = true;     // glTF normalTexture (kernels/shared/normal_map.h); off: NORMAL interpolated only
   bool environment = true;     // an environment light (kernels/shared/environment_map.h); off: rays leave into black
   bool transmission = true;    // thin-walled transmitters (kernels/shared/thin_glass.h); off: every surface is opaque
   bool glossy() const { return phong || ggx; }  // some f depends on the directions, not only Lambert

@@ -23,6 +23,11 @@ static_assert(offsetof(PathTraceParams, environment_width) == 48 && offsetof(Pat
 BP_CHECK_LAYOUT(PixelAccum, 32);
 static_assert(offsetof(PixelAccum, raw) == 16);
 
+#include "kernels/shared/texture.h"
+BP_CHECK_LAYOUT(TextureView, 48);
+BP_CHECK_LAYOUT(MaterialTextures, 64);
+static_assert(offsetof(MaterialTextures, base_color_factor) == 16 && offsetof(MaterialTextures, normal) == 52);
+
 #include "kernels/shared/bundle_types.h"
 BP_CHECK_LAYOUT(BundleElement, 64);
 BP_CHECK_LAYOUT(BundleIteration, 160);

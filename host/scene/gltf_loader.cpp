@@ -2,6 +2,7 @@
 // tinygltf 2.7 trusts them. Every failure is one SceneError line "<path>: <object> <problem>".
 #include "scene/gltf_loader.h"
 #include "scene/camera_views.h"
+#include "scene/tangents.h"
 
 #include "scene/textures.h"
 #include "scene/tinygltf.h"
@@ -106,6 +107,8 @@ struct LocalTriangle {
   bool has_normals = false;
   glm::vec3 normal[3]{};  // NORMAL, local space
   glm::vec2 uv[BP_MAX_UV_SLOTS][3]{};  // TEXCOORD_n of the material's uv slots
+  bool has_tangents = false;           // the material has a normal map: TANGENT (given or generated), local space
+  glm::vec4 tangent[3]{};
 };
 
 class Loader {
@@ -546,6 +549,7 @@ class Loader {
     t.base_color = texture_view(pbr.baseColorTexture, obj + " baseColorTexture", true, uv_sets);
     t.metallic_roughness = texture_view(pbr.metallicRoughnessTexture, obj + " metallicRoughnessTexture", false, uv_sets);
     t.emissive = texture_view(m.emissiveTexture, obj + " emissiveTexture", true, uv_sets);
+    read_normal_texture(m.normalTexture, obj + " normalTexture", t, uv_sets);
     for (int c = 0; c < 3; ++c) {
       t.base_color_factor[c] = out.base_color[c];
       t.emissive_factor[c] = out.emission[c];
@@ -566,8 +570,20 @@ class Loader {
       scene_.warnings.push_back(obj + " has alphaMode BLEND; rendered opaque");
     }
     material_cut_away_.push_back(cut_away);
-    material_uv_sets_.push_back(out.textured() ? uv_sets : std::vector<int>{});
+    material_uv_sets_.push_back(out.textured() || out.has_normal_map() ? uv_sets : std::vector<int>{});
     scene_.uv_slots = std::max(scene_.uv_slots, std::uint32_t(material_uv_sets_.back().size()));
+  }
+
+  // normalTexture (DESIGN.md §6): a linear RGB view like the others, and its scale.
+  void read_normal_texture(const tinygltf::NormalTextureInfo& normal, const std::string& obj, MaterialTextures& t,
+                           std::vector<int>& uv_sets) {
+    tinygltf::TextureInfo info;
+    info.index = normal.index;
+    info.texCoord = normal.texCoord;
+    info.extensions = normal.extensions;
+    t.normal = texture_view(info, obj, false, uv_sets);
+    if (!std::isfinite(normal.scale)) fail(obj + " scale is not finite");
+    t.normal_scale = float(normal.scale);
   }
 
   // A factor that glTF bounds to [lo, hi]; anything else (negative, NaN, infinite, too large) is an
@@ -672,7 +688,7 @@ class Loader {
         material_uv_sets_.emplace_back();
         material_cut_away_.push_back(false);
         if (m.pbrMetallicRoughness.baseColorTexture.index >= 0 || m.emissiveTexture.index >= 0 ||
-            m.pbrMetallicRoughness.metallicRoughnessTexture.index >= 0)
+            m.pbrMetallicRoughness.metallicRoughnessTexture.index >= 0 || m.normalTexture.index >= 0)
           scene_.warnings.push_back(obj + ": extras.phong wins; its textures are ignored");
       }
       const float max_albedo = bp_max(out.kd + out.ks);
@@ -856,6 +872,16 @@ class Loader {
         }
       }
       const std::vector<std::vector<glm::vec2>> uvs = read_texcoords(prim, obj, material_uv_sets_[material], pos.size());
+      const SceneMaterial& mat = scene_.materials[material];
+      std::vector<glm::vec4> tangents;  // TANGENT, where the material has a normal map and the primitive NORMAL
+      if (mat.has_normal_map() && prim.attributes.count("TANGENT")) {
+        if (normals.empty())
+          ++tangents_without_normals_;  // glTF: flat normals then, and the given tangents ignored
+        else
+          tangents = read_tangents(prim.attributes.at("TANGENT"), "TANGENT of " + obj, pos.size());
+      }
+      const std::size_t first_triangle = tris.size();
+      std::vector<std::array<std::uint32_t, 3>> corners;  // the primitive's triangles by vertex index
       std::vector<std::uint32_t> idx;
       if (prim.indices >= 0) {
         const std::string role = "indices of " + obj;
@@ -869,6 +895,7 @@ class Loader {
         for (std::size_t i = 0; i < idx.size(); ++i) idx[i] = std::uint32_t(i);
       }
       auto emit = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+        corners.push_back({a, b, c});
         LocalTriangle t{{pos[a], pos[b], pos[c]}, material};
         if (!normals.empty()) {
           t.has_normals = true;
@@ -895,8 +922,71 @@ class Loader {
       } else {
         for (std::size_t i = 1; i + 1 < n; ++i) emit(idx[0], idx[i], idx[i + 1]);
       }
+      if (mat.has_normal_map()) {
+        const std::vector<glm::vec2>& uv = uvs[scene_.texture_views[mat.textures.normal].uv_slot];
+        add_tangents(tris.data() + first_triangle, corners, pos, normals, uv, tangents);
+      }
     }
     return mesh_cache_.emplace(m, std::move(tris)).first->second;
+  }
+
+  // TANGENT (glTF: VEC4 float, one per POSITION, xyz unit, w the handedness +-1; its sign is taken).
+  std::vector<glm::vec4> read_tangents(int accessor, const std::string& role, std::size_t vertices) const {
+    const auto raw = read_accessor(accessor, role, TINYGLTF_TYPE_VEC4, {TINYGLTF_COMPONENT_TYPE_FLOAT});
+    if (raw.size() != 4 * vertices)
+      fail(accessor_name(accessor, role) + " has " + std::to_string(raw.size() / 4) + " elements, but POSITION has " +
+           std::to_string(vertices));
+    std::vector<glm::vec4> out(vertices);
+    for (std::size_t i = 0; i < vertices; ++i) {
+      const glm::dvec4 t(raw[4 * i], raw[4 * i + 1], raw[4 * i + 2], raw[4 * i + 3]);
+      if (!std::isfinite(t.x + t.y + t.z + t.w))
+        fail(accessor_name(accessor, role) + " holds a non-finite tangent at element " + std::to_string(i));
+      out[i] = glm::vec4(glm::vec3(t), t.w < 0.0 ? -1.0f : 1.0f);
+    }
+    return out;
+  }
+
+  // The corners' tangents of a normal-mapped primitive's triangles `out` (vertex indices `corners`):
+  // the given TANGENT, else generated (scene/tangents.h) per vertex from NORMAL, else -- no NORMAL:
+  // flat normals, as glTF asks -- per face, the flat normal becoming the triangle's NORMAL.
+  void add_tangents(LocalTriangle* out, const std::vector<std::array<std::uint32_t, 3>>& corners,
+                    const std::vector<glm::vec3>& pos, const std::vector<glm::vec3>& normals,
+                    const std::vector<glm::vec2>& uv, std::vector<glm::vec4> tangents) {
+    if (normals.empty()) {  // each corner a vertex of its own, with its face's normal
+      std::vector<glm::vec3> p, n;
+      std::vector<glm::vec2> t;
+      std::vector<std::array<std::uint32_t, 3>> faces;
+      for (const auto& c : corners) {
+        const glm::vec3 flat = glm::cross(pos[c[1]] - pos[c[0]], pos[c[2]] - pos[c[0]]);  // unit at placement
+        const std::uint32_t first = std::uint32_t(p.size());
+        for (std::uint32_t v : c) {
+          p.push_back(pos[v]);
+          n.push_back(flat);
+          t.push_back(uv[v]);
+        }
+        faces.push_back({first, first + 1, first + 2});
+      }
+      const GeneratedTangents g = generate_tangents(p, n, t, faces);
+      tangent_fallbacks_ += g.fallbacks;
+      for (std::size_t i = 0; i < corners.size(); ++i) {
+        out[i].has_normals = true;
+        out[i].has_tangents = true;
+        for (int k = 0; k < 3; ++k) {
+          out[i].normal[k] = n[3 * i + k];
+          out[i].tangent[k] = g.tangents[3 * i + k];
+        }
+      }
+      return;
+    }
+    if (tangents.empty()) {
+      GeneratedTangents g = generate_tangents(pos, normals, uv, corners);
+      tangent_fallbacks_ += g.fallbacks;
+      tangents = std::move(g.tangents);
+    }
+    for (std::size_t i = 0; i < corners.size(); ++i) {
+      out[i].has_tangents = true;
+      for (int k = 0; k < 3; ++k) out[i].tangent[k] = tangents[corners[i][k]];
+    }
   }
 
   // ------------------------------------------------------------------ nodes
@@ -1055,7 +1145,29 @@ class Loader {
             ++zero_normals_;
           }
       }
+      if (t.has_tangents) place_tangents(t, world, flip, out);
       scene_.triangles.push_back(out);
+    }
+  }
+
+  // A normal-mapped triangle's tangents in the world: xyz by the node's matrix (a tangent is a
+  // direction in the surface, not a normal), made orthogonal to the world NORMAL again; a mirroring
+  // node reverses the handedness w (B = w cross(N, T) must stay the mirrored bitangent), and swaps
+  // corners 1 and 2 as it does every corner's attributes.
+  void place_tangents(const LocalTriangle& t, const glm::dmat4& world, bool flip, SceneTriangle& out) {
+    for (int k = 0; k < 3; ++k) {
+      const int corner = flip && k > 0 ? 3 - k : k;  // out.normal is already in the swapped order
+      const glm::vec3 n = out.normal[corner];
+      const glm::dvec3 moved = glm::dmat3(world) * glm::dvec3(glm::vec3(t.tangent[k]));
+      glm::vec3 tangent = glm::vec3(moved - glm::dvec3(n) * glm::dot(glm::dvec3(n), moved));  // Gram-Schmidt
+      const float len = glm::length(tangent);
+      if (len > 1e-12f && std::isfinite(len)) {
+        tangent /= len;
+      } else {
+        tangent = any_tangent(n);
+        ++tangent_fallbacks_;
+      }
+      out.tangent[corner] = glm::vec4(tangent, flip ? -t.tangent[k].w : t.tangent[k].w);
     }
   }
 
@@ -1206,6 +1318,14 @@ class Loader {
     if (cut_away_)
       scene_.warnings.push_back("dropped " + std::to_string(cut_away_) +
                                 " triangle(s) whose alphaMode MASK material is below its alphaCutoff everywhere");
+    if (tangent_fallbacks_)
+      scene_.warnings.push_back(std::to_string(tangent_fallbacks_) +
+                                " normal-mapped vertex tangent(s) have no direction from their texcoords or TANGENT; "
+                                "any tangent orthogonal to the normal is used there");
+    if (tangents_without_normals_)
+      scene_.warnings.push_back(std::to_string(tangents_without_normals_) +
+                                " normal-mapped primitive(s) have TANGENT but no NORMAL; as glTF asks, flat normals "
+                                "and generated tangents are used");
     if (missing_texcoords_)
       scene_.warnings.push_back(std::to_string(missing_texcoords_) +
                                 " textured primitive(s) lack the TEXCOORD set their material reads; it reads (0, 0) there");
@@ -1238,7 +1358,7 @@ class Loader {
   std::vector<bool> material_cut_away_;  // per scene material: alphaMode MASK with a constant alpha below the cutoff  // per scene material: the glTF TEXCOORD sets of its uv slots
   std::map<int, std::size_t> skipped_modes_;
   std::size_t primitives_without_position_ = 0, ragged_triangle_lists_ = 0, degenerate_ = 0, zero_normals_ = 0,
-              missing_texcoords_ = 0, cut_away_ = 0;
+              missing_texcoords_ = 0, cut_away_ = 0, tangent_fallbacks_ = 0, tangents_without_normals_ = 0;
 };
 
 }  // namespace

@@ -12,11 +12,17 @@ std::size_t Scene::emissive_triangles() const {
 }
 
 bool Scene::has_shading_normals() const {
-  return std::any_of(triangles.begin(), triangles.end(), [](const SceneTriangle& t) { return t.has_normals; });
+  return has_normal_maps() ||
+         std::any_of(triangles.begin(), triangles.end(), [](const SceneTriangle& t) { return t.has_normals; });
 }
 
 bool Scene::has_textures() const {
-  return std::any_of(materials.begin(), materials.end(), [](const SceneMaterial& m) { return m.textured(); });
+  return std::any_of(materials.begin(), materials.end(),
+                     [](const SceneMaterial& m) { return m.textured() || m.has_normal_map(); });
+}
+
+bool Scene::has_normal_maps() const {
+  return std::any_of(materials.begin(), materials.end(), [](const SceneMaterial& m) { return m.has_normal_map(); });
 }
 
 bool Scene::has_alpha_masks() const {
@@ -30,7 +36,8 @@ bool Scene::has_transmission() const {
 
 MaterialTextures SceneMaterial::untextured() {
   MaterialTextures t{};
-  t.base_color = t.metallic_roughness = t.emissive = BP_NO_TEXTURE;
+  t.base_color = t.metallic_roughness = t.emissive = t.normal = BP_NO_TEXTURE;
+  t.normal_scale = 1.0f;
   t.alpha_cutoff = 0.0f;
   for (float& c : t.base_color_factor) c = 1.0f;
   t.metallic_factor = t.roughness_factor = 1.0f;

@@ -39,7 +39,8 @@ struct SceneMaterial {
   // roughness, emission (and kd of a Lambert one) above are the factors' values, what the material
   // is where no texture says otherwise.
   MaterialTextures textures = untextured();
-  bool textured() const { return material_is_textured(&textures); }
+  bool textured() const { return material_is_textured(&textures); }      // f or emission has textures
+  bool has_normal_map() const { return material_has_normal_map(&textures); }
   static MaterialTextures untextured();
 };
 
@@ -51,6 +52,9 @@ struct SceneTriangle {
   glm::vec3 normal[3]{};
   // TEXCOORD corners of the texcoord sets the material's textures read (TextureView::uv_slot)
   glm::vec2 uv[BP_MAX_UV_SLOTS][3]{};
+  // Where the material has a normal map: TANGENT at the corners (xyz world space, unit, orthogonal to
+  // `normal`; w the handedness +-1), from the file or generated (kernels/shared/normal_map.h)
+  glm::vec4 tangent[3]{};
 };
 
 // A KHR_lights_punctual light. glTF gives intensity in candela (point, spot) or lux (directional);
@@ -95,8 +99,9 @@ struct Scene {
   Bounds bounds;
   std::vector<std::string> warnings;     // things the loader accepted but a user should know
   std::size_t emissive_triangles() const;
-  bool has_shading_normals() const;      // some triangle has NORMAL corners
+  bool has_shading_normals() const;      // some triangle has NORMAL corners, or some material a normal map
   bool has_textures() const;             // some material has a texture
+  bool has_normal_maps() const;          // some material has a normalTexture
   bool has_alpha_masks() const;          // some material has alphaMode MASK with a texture
   bool has_transmission() const;         // some material is a thin transmitter (transmission > 0)
   // The environment as the kernels see it: the EXR's map, else the uniform radiance's 1x1 map.

@@ -106,6 +106,9 @@ inline float3 fmin(float3 a, float3 b) { return {std::fmin(a.x, b.x), std::fmin(
 #ifndef BP_FEATURE_TEXTURES
 #define BP_FEATURE_TEXTURES 1
 #endif
+#ifndef BP_FEATURE_NORMAL_MAPS
+#define BP_FEATURE_NORMAL_MAPS 1
+#endif
 #ifndef BP_FEATURE_ENVIRONMENT
 #define BP_FEATURE_ENVIRONMENT 1
 #endif

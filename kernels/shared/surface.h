@@ -3,6 +3,7 @@
 #ifndef BP_SHARED_SURFACE_H
 #define BP_SHARED_SURFACE_H
 #include "shared/compat.h"
+#include "shared/normal_map.h"
 #include "shared/patch.h"
 #include "shared/types.h"
 
@@ -46,13 +47,17 @@ BP_FN float3 shading_normal_at(BP_GLOBAL const float* normals, bp_u32 triangle, 
   return dot(n, geometric) > 0.0f ? n : geometric;
 }
 
-// surface_at with the shading normal filled in where the scene has NORMAL corners (has_normals).
+// surface_at with the shading normal filled in where the scene has NORMAL corners (has_normals),
+// and perturbed by the material's normal map where it has one (`set` with uv_slots > 0: textures;
+// `tangents`: 12 floats per triangle, normal_map.h).
 BP_FN SurfaceHit surface_at_shaded(BP_GLOBAL const TriangleShading* shading, BP_GLOBAL const float* normals,
-                                   bp_u32 has_normals, bp_u32 triangle, float b1, float b2, float3 position,
-                                   float3 ray_dir) {
+                                   bp_u32 has_normals, const TextureSet* set, BP_GLOBAL const float* tangents,
+                                   bp_u32 triangle, float b1, float b2, float3 position, float3 ray_dir) {
   SurfaceHit s = surface_at(shading, triangle, b1, b2, position, ray_dir);
-  if (BP_FEATURE_SHADING_NORMALS && has_normals)
-    s.shading_normal = shading_normal_at(normals, triangle, b1, b2, s.normal, s.reflects);
+  if (!BP_FEATURE_SHADING_NORMALS || !has_normals) return s;
+  s.shading_normal = shading_normal_at(normals, triangle, b1, b2, s.normal, s.reflects);
+  if (BP_FEATURE_NORMAL_MAPS && set->uv_slots > 0u)
+    s.shading_normal = normal_mapped_at(set, tangents, s.material, triangle, b1, b2, s.shading_normal, s.normal, s.reflects);
   return s;
 }
 

@@ -39,6 +39,9 @@ typedef struct {
   float emissive_factor[3];   // emissiveFactor x emissiveStrength, W sr^-1 m^-2
   float metallic_factor;
   float roughness_factor;
+  bp_u32 normal;              // normalTexture: RGB linear, a tangent-space normal (shared/normal_map.h)
+  float normal_scale;         // normalTexture.scale: multiplies the map's x and y
+  float pad;
 } MaterialTextures;
 
 // Everything a texel lookup reads. uv_slots: texcoord sets stored per triangle (texcoords holds
@@ -189,9 +192,12 @@ BP_FN int alpha_is_surface(const TextureSet* set, bp_u32 material, bp_u32 triang
   return t.a * mt->base_color_factor[3] >= mt->alpha_cutoff;
 }
 
-// True where the material has textures (the others keep their Material as it is).
+// True where the material's f or emission has textures (the others keep their Material as it is).
 BP_FN int material_is_textured(const MaterialTextures* mt) {
   return mt->base_color != BP_NO_TEXTURE || mt->metallic_roughness != BP_NO_TEXTURE || mt->emissive != BP_NO_TEXTURE;
 }
+
+// True where the material has a normalTexture (its shading normal is per texel: shared/normal_map.h).
+BP_FN int material_has_normal_map(const MaterialTextures* mt) { return mt->normal != BP_NO_TEXTURE; }
 
 #endif  // BP_SHARED_TEXTURE_H

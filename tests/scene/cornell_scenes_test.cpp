@@ -141,5 +141,27 @@ TEST(CornellScene, GlossyVariantHasPaperMaterialsAndAnEgg) {
   EXPECT_LT(egg_bounds.hi.x, 0.549f);  // inside the red wall
 }
 
+TEST(CornellScene, NormalMapVariantHasABumpyBackWall) {
+  const Scene s = load_gltf(scene_file("cornell-normal-map.gltf"));
+  EXPECT_EQ(s.triangles.size(), 32u);
+  expect_cornell_frame(s);
+  const SceneMaterial* bumpy = find_material(s, "bumpy white");
+  ASSERT_NE(bumpy, nullptr);
+  ASSERT_TRUE(bumpy->has_normal_map());
+  EXPECT_EQ(s.texture_views[bumpy->textures.normal].width, 64u);
+  // no NORMAL, no TANGENT: flat normals (-z, into the box) and generated tangents along u (-x), w +1
+  int walls = 0;
+  for (const auto& t : s.triangles)
+    if (&s.materials[t.material] == bumpy) {
+      ++walls;
+      for (int k = 0; k < 3; ++k) {
+        EXPECT_NEAR(t.normal[k].z, -1.0f, 1e-6f);
+        EXPECT_NEAR(t.tangent[k].x, -1.0f, 1e-4f);
+        EXPECT_EQ(t.tangent[k].w, 1.0f);
+      }
+    }
+  EXPECT_EQ(walls, 2);
+}
+
 }  // namespace
 }  // namespace bp

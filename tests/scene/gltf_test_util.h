@@ -3,6 +3,7 @@
 #include "scene/scene.h"
 
 #include <glm/glm.hpp>
+#include <cstdint>
 #include <string>
 
 namespace bp::test {
@@ -19,6 +20,22 @@ inline std::string test_name_from_file(std::string name) {
   for (char& ch : name)
     if (ch == '-') ch = '_';
   return name;
+}
+
+// RFC 4648 base64, for data: URIs.
+inline std::string base64(const std::string& bytes) {
+  static const char* digits = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  for (std::size_t i = 0; i < bytes.size(); i += 3) {
+    std::uint32_t v = std::uint8_t(bytes[i]) << 16;
+    if (i + 1 < bytes.size()) v |= std::uint8_t(bytes[i + 1]) << 8;
+    if (i + 2 < bytes.size()) v |= std::uint8_t(bytes[i + 2]);
+    out += digits[v >> 18 & 63];
+    out += digits[v >> 12 & 63];
+    out += i + 1 < bytes.size() ? digits[v >> 6 & 63] : '=';
+    out += i + 2 < bytes.size() ? digits[v & 63] : '=';
+  }
+  return out;
 }
 
 inline bool has_warning(const Scene& s, const std::string& part) {

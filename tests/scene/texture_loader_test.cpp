@@ -63,21 +63,6 @@ std::string read_text(const std::string& path) {
   return s.str();
 }
 
-std::string base64(const std::string& bytes) {
-  static const char* digits = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  for (std::size_t i = 0; i < bytes.size(); i += 3) {
-    std::uint32_t v = std::uint8_t(bytes[i]) << 16;
-    if (i + 1 < bytes.size()) v |= std::uint8_t(bytes[i + 1]) << 8;
-    if (i + 2 < bytes.size()) v |= std::uint8_t(bytes[i + 2]);
-    out += digits[v >> 18 & 63];
-    out += digits[v >> 12 & 63];
-    out += i + 1 < bytes.size() ? digits[v >> 6 & 63] : '=';
-    out += i + 2 < bytes.size() ? digits[v & 63] : '=';
-  }
-  return out;
-}
-
 // A JPEG (written by stb_image_write) as a data: URI: decoded like a PNG, within JPEG's loss.
 TEST(GltfTextures, JpegFromADataUri) {
   std::vector<unsigned char> pixels;
@@ -89,7 +74,7 @@ TEST(GltfTextures, JpegFromADataUri) {
   const std::string uri = "\"uri\": \"textured-quad.png\"";
   const auto at = text.find(uri);
   ASSERT_NE(at, std::string::npos);
-  text.replace(at, uri.size(), "\"uri\": \"data:image/jpeg;base64," + base64(jpeg) + "\"");
+  text.replace(at, uri.size(), "\"uri\": \"data:image/jpeg;base64," + test::base64(jpeg) + "\"");
   const Scene s = load_gltf_from_memory(text, "jpeg.gltf", false);
   ASSERT_EQ(s.texture_views.size(), 1u);
   EXPECT_EQ(s.texture_views[0].width, 16u);
