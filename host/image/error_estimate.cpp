@@ -219,19 +219,19 @@ void ImageErrorEstimate::add_rb_bias_batch(std::size_t rb, std::uint64_t rounds)
 }
 
 namespace {
-// The one-sided 99 % quantile of Student's t with `dof` degrees of freedom (kRbBiasFalseAlarm), the
+// The one-sided 95 % quantile of Student's t with `dof` degrees of freedom (kRbBiasFalseAlarm), the
 // table's entry at or below dof (so at least the quantile).
-double student_t_99(double dof) {
-  static constexpr std::array<std::pair<double, double>, 16> kTable{{{1, 31.82}, {2, 6.965}, {3, 4.541}, {4, 3.747},
-                                                                     {5, 3.365}, {6, 3.143}, {7, 2.998}, {8, 2.896},
-                                                                     {9, 2.821}, {10, 2.764}, {12, 2.681}, {15, 2.602},
-                                                                     {20, 2.528}, {30, 2.457}, {60, 2.390}, {120, 2.358}}};
+double student_t_95(double dof) {
+  static constexpr std::array<std::pair<double, double>, 16> kTable{{{1, 6.314}, {2, 2.920}, {3, 2.353}, {4, 2.132},
+                                                                     {5, 2.015}, {6, 1.943}, {7, 1.895}, {8, 1.860},
+                                                                     {9, 1.833}, {10, 1.812}, {12, 1.782}, {15, 1.753},
+                                                                     {20, 1.725}, {30, 1.697}, {60, 1.671}, {120, 1.658}}};
   double q = kTable.front().second;
   for (const auto& [d, quantile] : kTable)
     if (dof >= d) q = quantile;
   return q;
 }
-static_assert(kRbBiasFalseAlarm == 0.01, "student_t_99's table is the 99 % quantile");
+static_assert(kRbBiasFalseAlarm == 0.05, "student_t_95's table is the 95 % quantile");
 }  // namespace
 
 ImageErrorEstimate::RbBiasCheck ImageErrorEstimate::rb_bias_check() const {
@@ -253,7 +253,7 @@ double ImageErrorEstimate::rb_bias_rel_mse() const {
   if (!pt_rb_share_estimate_) return std::nan("");
   const RbBiasCheck c = rb_bias_check();
   if (std::isnan(c.estimate) || c.batches < kRbBiasMinPairedBatches) return std::nan("");
-  return c.estimate > student_t_99(double(c.batches) - 1.0) * c.standard_error ? c.estimate : 0.0;
+  return c.estimate > student_t_95(double(c.batches) - 1.0) * c.standard_error ? c.estimate : 0.0;
 }
 
 void ImageErrorEstimate::set_factors(const std::string& layer, std::vector<double> factors) {

@@ -198,11 +198,12 @@ TEST(ErrorEstimate, IndependentLayersAddTheirVariancesAndFreedoms) {
 // RB's layer checked against PT's estimate of its share (rb_bias_rel_mse): PT's weighted layer w and
 // unweighted u = w + d, RB's r scaled by 0.9 in the image, in batches of 4 rounds. RB's noise is a
 // chain's: one fluctuation common to every pixel per round (a room's light moving together) beside
-// each pixel's own. Without a bias the check is its noise: counted (a false alarm) in at most 5 % of
-// the renders (it is 1 % by design). With s·r 0.1 off d's mean, above it in one half of the image and
-// below in the other (a discretisation's blur), it estimates the relMSE of that bias without bias (the
-// mean of 40 renders within 15 %, about 3 of its standard errors) and counts it in 9 of 10 renders or more. A standard error from the pixels' spread, as if their errors were
-// independent (the check before), counted the common noise as bias in most renders (tried).
+// each pixel's own. Without a bias the check is its noise: counted (a false alarm) in at most 10 % of
+// the renders (5 % by design). With s·r 0.1 off d's mean, above it in one half of the image and below
+// in the other (a discretisation's blur), it estimates the relMSE of that bias without bias (the mean
+// of 40 renders within 15 %, about 3 of its standard errors) and counts it in 9 renders of 10 or more.
+// A standard error √K too small (K the increments) gave 45 false alarms in 200
+// renders (tried; 5 as it is).
 struct RbBiasRender {
   double counted, estimate;
   ImageRGB image;
@@ -244,7 +245,7 @@ TEST(ErrorEstimate, RbBiasIsSeenAgainstPtsEstimateOfTheShareAndTheChainsNoiseIsN
   constexpr int kRenders = 200;
   int false_alarms = 0;
   for (int k = 0; k < kRenders; ++k) false_alarms += render_rb_bias_check(0.0, 100 + std::uint64_t(k)).counted > 0.0;
-  EXPECT_LE(false_alarms, kRenders / 20);
+  EXPECT_LE(false_alarms, kRenders / 10);
   double sum = 0.0;
   int seen = 0;
   constexpr int kBiased = 40;
