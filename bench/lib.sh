@@ -169,7 +169,7 @@ bench_rooms_scene() {
   mkdir -p "$dir"
   local out=$dir/rooms-$n-s$seed.glb
   local -a make_flags=()
-  if [ "$variant" = lambert ]; then out=$dir/rooms-lambert-$n-s$seed.glb; make_flags=(--lambert); fi
+  if [ -n "$variant" ]; then out=$dir/rooms-$variant-$n-s$seed.glb; make_flags=(--"$variant"); fi
   if [ ! -f "$out" ]; then
     local tool=$BENCH_BUILD_DIR/bench/make_rooms
     [ -x "$tool" ] || tool=$BENCH_BUILD_DIR/make_rooms
@@ -184,10 +184,12 @@ bench_rooms_scene() {
 }
 
 # bench_scene NAME: a scene name of the study -> a file. cornell-box, cornell-glossy (scenes/),
-# rooms-N (procedural, N triangles), rooms-lambert-N (the same house, every material Lambert), or a path.
+# rooms-N (procedural, N triangles), rooms-lambert-N (the same house, every material Lambert),
+# rooms-ggx-N (the same house in glTF metallic-roughness: make_rooms --ggx), or a path.
 bench_scene() {
   case $1 in
     rooms-lambert-*) bench_rooms_scene "${1#rooms-lambert-}" 1 lambert ;;
+    rooms-ggx-*) bench_rooms_scene "${1#rooms-ggx-}" 1 ggx ;;
     rooms-*) bench_rooms_scene "${1#rooms-}" ;;
     *.gltf|*.glb) echo "$1" ;;
     *) echo "$bench_root/scenes/$1.gltf" ;;

@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # CTest make_rooms_output: the written camera has no zfar (glTF: an infinite projection; tinygltf's
 # zfar 0 is invalid and makes Blender clip everything), in .glb and .gltf; --lambert writes ks = 0
-# everywhere and keeps kd; bad arguments exit 2 with the usage.
+# everywhere and keeps kd; --ggx writes metallic-roughness dielectrics with baseColor = kd, roughness
+# from the Phong exponent where there is a lobe and 1 where not, and no extras.phong; bad arguments
+# exit 2 with the usage.
 # Usage: bench/make_rooms_test.sh MAKE_ROOMS WORKDIR
 set -euo pipefail
 tool=$1 dir=$2
@@ -9,6 +11,7 @@ mkdir -p "$dir"
 "$tool" 3000 "$dir/plain.glb" 2>/dev/null
 "$tool" 3000 "$dir/lambert.gltf" --lambert 2>/dev/null
 "$tool" 3000 "$dir/lambert.glb" --lambert --seed 1 2>/dev/null
+"$tool" 3000 "$dir/ggx.gltf" --ggx 2>/dev/null
 python3 - "$dir" <<'PY'
 import json, struct, sys
 d = sys.argv[1]
@@ -34,9 +37,18 @@ for doc in (lambert, lambert_glb):
     for name, v in phong(doc).items():
         assert v["ks"] == [0.0, 0.0, 0.0], (name, v)
         assert v["kd"] == phong(plain)[name]["kd"], (name, v)
+ggx = json.load(open(f"{d}/ggx.gltf"))
+for m in ggx["materials"]:
+    assert "extras" not in m, m
+    pbr, v = m["pbrMetallicRoughness"], phong(plain)[m["name"]]
+    assert pbr["metallicFactor"] == 0.0 and pbr["baseColorFactor"][:3] == v["kd"], (m, v)
+    lobe = max(v["ks"]) > 0
+    expected = (2.0 / (4.0 * v["shininess"] + 2.0)) ** 0.25 if lobe else 1.0
+    assert abs(pbr.get("roughnessFactor", 1.0) - expected) < 1e-6, (m, expected)
+assert any(m["pbrMetallicRoughness"].get("roughnessFactor", 1.0) < 0.5 for m in ggx["materials"]), "glossy"
 print("make_rooms output OK")
 PY
-for args in "abc $dir/x.glb" "3000 $dir/x.glb --bogus" "3000" "3000 $dir/x.obj" "3000 $dir/x.glb --seed" "-5 $dir/x.glb"; do
+for args in "3000 $dir/x.glb --lambert --ggx" "abc $dir/x.glb" "3000 $dir/x.glb --bogus" "3000" "3000 $dir/x.obj" "3000 $dir/x.glb --seed" "-5 $dir/x.glb"; do
   rc=0
   # shellcheck disable=SC2086
   msg=$("$tool" $args 2>&1) || rc=$?
