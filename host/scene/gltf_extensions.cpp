@@ -147,11 +147,9 @@ std::string draco_without_fallback(const json& gltf) {
           !prim["extensions"].contains("KHR_draco_mesh_compression"))
         continue;
       const json position = prim.value("attributes", json::object()).value("POSITION", json());
-      const bool readable = position.is_number_unsigned() && position.get<std::size_t>() < accessors.size() &&
-                            accessors[position.get<std::size_t>()].is_object() &&
-                            (accessors[position.get<std::size_t>()].contains("bufferView") ||
-                             accessors[position.get<std::size_t>()].contains("sparse"));
-      if (!readable)
+      const std::size_t a = position.is_number_unsigned() ? position.get<std::size_t>() : accessors.size();
+      const json& accessor = a < accessors.size() ? accessors[a] : empty;
+      if (!accessor.is_object() || !(accessor.contains("bufferView") || accessor.contains("sparse")))
         return "mesh " + std::to_string(m) + " primitive " + std::to_string(p) +
                " is Draco-compressed (KHR_draco_mesh_compression) without uncompressed POSITION, and this "
                "renderer does not decode Draco";
