@@ -2,6 +2,7 @@
 // tinygltf 2.7 trusts them. Every failure is one SceneError line "<path>: <object> <problem>".
 #include "scene/gltf_loader.h"
 #include "scene/camera_views.h"
+#include "scene/gltf_extensions.h"
 #include "scene/tangents.h"
 
 #include "scene/textures.h"
@@ -121,8 +122,10 @@ class Loader {
   Scene load(const std::vector<unsigned char>& bytes, bool binary) {
     parse(bytes, binary);
     scene_.source = path_;
+    quantized_ = uses_extension("KHR_mesh_quantization");
     read_materials();
     traverse();
+    for (std::string& w : gltf_ignored_feature_warnings(model_)) scene_.warnings.push_back(std::move(w));
     finish();
     return std::move(scene_);
   }
@@ -168,6 +171,19 @@ class Loader {
       if (!one_line(line).empty()) scene_.warnings.push_back("glTF: " + one_line(line));
   }
 
+  // Extensions (scene/gltf_extensions.h): a required one we cannot do fails; an unsupported used one warns.
+  void check_extensions(const nlohmann::json& j) {
+    if (const std::string error = gltf_extension_error(j); !error.empty()) fail(error);
+    for (std::string& w : gltf_extension_warnings(j)) scene_.warnings.push_back(std::move(w));
+  }
+
+  bool uses_extension(const std::string& name) const {
+    const auto& used = model_.extensionsUsed;
+    const auto& required = model_.extensionsRequired;
+    return std::find(used.begin(), used.end(), name) != used.end() ||
+           std::find(required.begin(), required.end(), name) != required.end();
+  }
+
   // The JSON chunk of a .glb, after checking the header and chunk table.
   std::string glb_json_chunk(const std::vector<unsigned char>& b) const {
     if (b.size() < 20) fail(".glb header is truncated (" + std::to_string(b.size()) + " bytes)");
@@ -188,8 +204,9 @@ class Loader {
   }
 
   // Checks on the raw JSON that must happen before tinygltf reads it: a readable syntax error,
-  // buffer URIs that stay in the asset's folder and exist, and the indices tinygltf itself dereferences.
-  void precheck_json(const std::string& text, const std::string& base_dir) const {
+  // the extensions it requires, buffer URIs that stay in the asset's folder and exist, and the
+  // indices tinygltf itself dereferences.
+  void precheck_json(const std::string& text, const std::string& base_dir) {
     nlohmann::json j;
     try {
       j = nlohmann::json::parse(text);
@@ -197,6 +214,7 @@ class Loader {
       fail(std::string("invalid JSON: ") + e.what());
     }
     if (!j.is_object()) fail("is not glTF (the JSON top level is not an object)");
+    check_extensions(j);
     auto array = [&](const char* key) -> const nlohmann::json& {
       static const nlohmann::json empty = nlohmann::json::array();
       auto it = j.find(key);
@@ -308,7 +326,7 @@ class Loader {
   // Accessor `index` as count x components doubles, sparse substitutions applied. `role` names
   // its use for messages ("POSITION of mesh 0 primitive 1").
   std::vector<double> read_accessor(int index, const std::string& role, int want_type,
-                                    std::initializer_list<int> allowed_components) const {
+                                    const std::vector<int>& allowed_components) const {
     if (index < 0 || std::size_t(index) >= model_.accessors.size())
       fail(accessor_name(index, role) + " does not exist (the file has " +
            std::to_string(model_.accessors.size()) + " accessors)");
@@ -384,6 +402,23 @@ class Loader {
         out[std::size_t(target) * ncomp + c] =
             component(vbase + sp.values.byteOffset + s * esize + c * csize, acc.componentType);
     }
+  }
+
+  // A vertex attribute: `core` component types, plus `quantized` ones where the file uses
+  // KHR_mesh_quantization; normalized integers mapped to [0, 1] or [-1, 1] (glTF 3.11: signed c / (2^(n-1) - 1),
+  // at least -1).
+  std::vector<double> read_attribute(int index, const std::string& role, int type, std::vector<int> core,
+                                     const std::vector<int>& quantized) const {
+    if (quantized_) core.insert(core.end(), quantized.begin(), quantized.end());
+    std::vector<double> out = read_accessor(index, role, type, core);
+    const auto& acc = model_.accessors[index];
+    if (!acc.normalized || acc.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT) return out;
+    const double max = acc.componentType == TINYGLTF_COMPONENT_TYPE_BYTE            ? 127.0
+                       : acc.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ? 255.0
+                       : acc.componentType == TINYGLTF_COMPONENT_TYPE_SHORT         ? 32767.0
+                                                                                    : 65535.0;
+    for (double& v : out) v = std::max(v / max, -1.0);
+    return out;
   }
 
   static std::string type_name(int type) {
@@ -793,23 +828,20 @@ class Loader {
         continue;
       }
       const std::string role = name + " of " + obj;
-      const auto raw = read_accessor(it->second, role, TINYGLTF_TYPE_VEC2,
-                                     {TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
-                                      TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT});
+      const auto raw = read_attribute(it->second, role, TINYGLTF_TYPE_VEC2,
+                                      {TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
+                                       TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT},
+                                      {TINYGLTF_COMPONENT_TYPE_BYTE, TINYGLTF_COMPONENT_TYPE_SHORT});
       const auto& acc = model_.accessors[it->second];
-      double scale = 1.0;
-      if (acc.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT) {
-        if (!acc.normalized)
-          fail(accessor_name(it->second, role) + " has integer components that are not normalized (glTF needs "
-                                                 "float or normalized unsigned byte or short texcoords)");
-        scale = acc.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ? 1.0 / 255.0 : 1.0 / 65535.0;
-      }
+      if (acc.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT && !acc.normalized && !quantized_)
+        fail(accessor_name(it->second, role) + " has integer components that are not normalized (glTF needs "
+                                               "float or normalized unsigned byte or short texcoords)");
       if (raw.size() != 2 * vertices)
         fail(accessor_name(it->second, role) + " has " + std::to_string(raw.size() / 2) + " elements, but POSITION has " +
              std::to_string(vertices));
       std::vector<glm::vec2> uv(vertices);
       for (std::size_t i = 0; i < vertices; ++i) {
-        uv[i] = glm::vec2(float(raw[2 * i] * scale), float(raw[2 * i + 1] * scale));
+        uv[i] = glm::vec2(float(raw[2 * i]), float(raw[2 * i + 1]));
         if (!std::isfinite(uv[i].x) || !std::isfinite(uv[i].y))
           fail(accessor_name(it->second, role) + " holds a non-finite texcoord at element " + std::to_string(i));
       }
@@ -847,7 +879,9 @@ class Loader {
         continue;
       }
       const std::string pos_role = "POSITION of " + obj;
-      const auto raw = read_accessor(pos_it->second, pos_role, TINYGLTF_TYPE_VEC3, {TINYGLTF_COMPONENT_TYPE_FLOAT});
+      const auto raw = read_attribute(pos_it->second, pos_role, TINYGLTF_TYPE_VEC3, {TINYGLTF_COMPONENT_TYPE_FLOAT},
+                                      {TINYGLTF_COMPONENT_TYPE_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
+                                       TINYGLTF_COMPONENT_TYPE_SHORT, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT});
       std::vector<glm::vec3> pos(raw.size() / 3);
       for (std::size_t i = 0; i < pos.size(); ++i) {
         pos[i] = glm::vec3(float(raw[3 * i]), float(raw[3 * i + 1]), float(raw[3 * i + 2]));
@@ -859,7 +893,8 @@ class Loader {
       std::vector<glm::vec3> normals;
       if (auto normal_it = prim.attributes.find("NORMAL"); normal_it != prim.attributes.end()) {
         const std::string role = "NORMAL of " + obj;
-        const auto n_raw = read_accessor(normal_it->second, role, TINYGLTF_TYPE_VEC3, {TINYGLTF_COMPONENT_TYPE_FLOAT});
+        const auto n_raw = read_attribute(normal_it->second, role, TINYGLTF_TYPE_VEC3, {TINYGLTF_COMPONENT_TYPE_FLOAT},
+                                          {TINYGLTF_COMPONENT_TYPE_BYTE, TINYGLTF_COMPONENT_TYPE_SHORT});
         if (n_raw.size() != raw.size())
           fail(accessor_name(normal_it->second, role) + " has " + std::to_string(n_raw.size() / 3) +
                " elements, but POSITION has " + std::to_string(pos.size()));
@@ -932,7 +967,8 @@ class Loader {
 
   // TANGENT (glTF: VEC4 float, one per POSITION, xyz unit, w the handedness +-1; its sign is taken).
   std::vector<glm::vec4> read_tangents(int accessor, const std::string& role, std::size_t vertices) const {
-    const auto raw = read_accessor(accessor, role, TINYGLTF_TYPE_VEC4, {TINYGLTF_COMPONENT_TYPE_FLOAT});
+    const auto raw = read_attribute(accessor, role, TINYGLTF_TYPE_VEC4, {TINYGLTF_COMPONENT_TYPE_FLOAT},
+                                    {TINYGLTF_COMPONENT_TYPE_BYTE, TINYGLTF_COMPONENT_TYPE_SHORT});
     if (raw.size() != 4 * vertices)
       fail(accessor_name(accessor, role) + " has " + std::to_string(raw.size() / 4) + " elements, but POSITION has " +
            std::to_string(vertices));
@@ -1355,6 +1391,7 @@ class Loader {
   std::map<int, std::vector<LocalTriangle>> mesh_cache_;
   std::map<int, ImageTexels> decoded_images_;
   std::vector<std::vector<int>> material_uv_sets_;
+  bool quantized_ = false;  // the file uses KHR_mesh_quantization: integer vertex attributes (read_attribute)
   std::vector<bool> material_cut_away_;  // per scene material: alphaMode MASK with a constant alpha below the cutoff  // per scene material: the glTF TEXCOORD sets of its uv slots
   std::map<int, std::size_t> skipped_modes_;
   std::size_t primitives_without_position_ = 0, ragged_triangle_lists_ = 0, degenerate_ = 0, zero_normals_ = 0,
