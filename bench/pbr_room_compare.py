@@ -6,6 +6,7 @@ noise, from a second render of each side at another seed.
   pbr_room_compare.py OURS1.exr OURS2.exr CYCLES1.exr CYCLES2.exr --label NAME
                       [--block 8] [--patch L T R B] [--png SIDE_BY_SIDE.png] [--json OUT.json]
 
+Each image may be A.exr+B.exr+...: the mean of those renders.
 --patch: the patch as fractions of the width and height (left, top, right, bottom).
 Differences are (ours1 - Cycles1) / Cycles1. Noise: a block's mean differs between two seeds by
 sqrt 2 sigma; per block, sigma^2 of a render's block mean is estimated from its pixels,
@@ -27,7 +28,13 @@ import OpenEXR
 Y = np.array([0.2126, 0.7152, 0.0722])
 
 
-def load(path):
+def load(paths):
+    """PATH or A.exr+B.exr+...: the mean of those renders (a render of their summed samples)."""
+    parts = paths.split("+")
+    return sum(load_one(q) for q in parts) / len(parts)
+
+
+def load_one(path):
     with OpenEXR.File(path) as f:
         ch = f.channels()
         if "RGBA" in ch or "RGB" in ch:
