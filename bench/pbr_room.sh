@@ -120,8 +120,8 @@ device=$(grep -m1 -o 'on .*' "$out/ours-pt-s1.log" | head -1 || true)
   echo "Render times, seconds (seed 1, seed 2): ours pt ${seconds[pt-1]}, ${seconds[pt-2]} (wall, with start-up);"
   ctimes=; for k in $(seq 1 $((2 * cycles_renders))); do ctimes+="${ctimes:+, }${seconds[cycles-$k]}"; done
   echo "ours combined ${seconds[combined-1]}, ${seconds[combined-2]} (wall); Cycles (seeds 1 to $((2 * cycles_renders))) $ctimes (sampling)."
-  echo "The default combination's choice (--ratio auto), seed 1: $(grep -m1 -o 'ratio auto: [^(]*' "$out/ours-combined-s1.log" || echo '?')."
-  echo "Ours on: ${device:-see the logs}."
+  echo "The default combination's choice (--ratio auto), seed 1: $(grep -m1 -o 'ratio auto: [^(]*[^( ]' "$out/ours-combined-s1.log" || echo '?')."
+  echo "Ours ${device:-on: see the logs}."
   echo
   echo "Loading the file: $([ "$warnings" = 0 ] && echo "no warning" || echo "WARNINGS (see $out/ours-*.log)")."
   echo
