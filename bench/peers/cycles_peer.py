@@ -181,27 +181,16 @@ def build(scene, coll, tmp):
     return obj
 
 
-def main():
-    a = parse_args()
-    t0 = time.perf_counter()
-    scene = convert.load(a.scene)
-    for w in scene["warnings"]:
-        print("cycles_peer: warning:", w, file=sys.stderr)
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    s = bpy.context.scene
-    tmp = tempfile.mkdtemp(prefix="cycles-peer-")
-    s.camera = build(scene, s.collection, tmp)
-    world = bpy.data.worlds.new("black")
-    world.use_nodes = True
-    world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.0
-    s.world = world
+def render_settings(s, width, height, exr_path, spp=0, time_limit=0.0, seed=1, threads=1, guiding=False):
+    """The Cycles settings of the harness (the module docstring), on scene `s`; the output is a 32-bit
+    float RGBA EXR at exr_path. bench/pbr_room.sh's Cycles render reuses them."""
     s.render.engine = "CYCLES"
     cy = s.cycles
     cy.device = "CPU"
-    cy.samples = a.spp if a.spp > 0 else 1 << 24
-    cy.time_limit = a.time
+    cy.samples = spp if spp > 0 else 1 << 24
+    cy.time_limit = time_limit
     cy.use_adaptive_sampling = False
-    cy.seed = a.seed
+    cy.seed = seed
     cy.use_animated_seed = False
     cy.use_denoising = False
     for k in ("max_bounces", "diffuse_bounces", "glossy_bounces", "transmission_bounces", "volume_bounces",
@@ -216,27 +205,62 @@ def main():
     cy.pixel_filter_type = "BOX"
     cy.filter_width = 1.0
     cy.use_light_tree = True
-    cy.use_guiding = a.guiding
-    if a.guiding:
+    cy.use_guiding = guiding
+    if guiding:
         cy.use_surface_guiding = True
         cy.use_volume_guiding = False
     s.render.film_transparent = False
     s.view_settings.view_transform = "Standard"
     s.view_settings.look = "None"
-    s.render.resolution_x = a.width
-    s.render.resolution_y = a.height
+    s.render.resolution_x = width
+    s.render.resolution_y = height
     s.render.resolution_percentage = 100
     s.render.use_compositing = False
     s.render.use_sequencer = False
     s.render.threads_mode = "FIXED"
-    s.render.threads = a.threads
+    s.render.threads = threads
     st = s.render.image_settings
     st.file_format = "OPEN_EXR"
     st.color_depth = "32"
     st.color_mode = "RGBA"
     st.exr_codec = "ZIP"
-    s.render.filepath = os.path.abspath(a.out + ".exr")
+    s.render.filepath = os.path.abspath(exr_path)
     s.render.use_file_extension = False
+
+
+def cycles_render_seconds(exr_path):
+    """Cycles' sampling time from the EXR header (None when not found)."""
+    import subprocess
+    reported = None
+    probe = ("import OpenEXR, json, sys\nwith OpenEXR.File(sys.argv[1]) as f:\n"
+             "    print(json.dumps({k: str(v) for k, v in f.header().items() if k.startswith('cycles.')}))")
+    try:
+        header = json.loads(subprocess.run([sys.executable, "-c", probe, exr_path], check=True,
+                                           capture_output=True, text=True).stdout)
+        for key, v in header.items():
+            m = re.match(r"(?:(\d+):)?(\d+):(\d+(?:\.\d+)?)$", v)
+            if key.endswith(".render_time") and m:
+                reported = int(m.group(1) or 0) * 3600 + int(m.group(2)) * 60 + float(m.group(3))
+    except (subprocess.CalledProcessError, ValueError) as e:
+        print("cycles_peer: EXR header not read:", e, file=sys.stderr)
+    return reported
+
+
+def main():
+    a = parse_args()
+    t0 = time.perf_counter()
+    scene = convert.load(a.scene)
+    for w in scene["warnings"]:
+        print("cycles_peer: warning:", w, file=sys.stderr)
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    s = bpy.context.scene
+    tmp = tempfile.mkdtemp(prefix="cycles-peer-")
+    s.camera = build(scene, s.collection, tmp)
+    world = bpy.data.worlds.new("black")
+    world.use_nodes = True
+    world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.0
+    s.world = world
+    render_settings(s, a.width, a.height, a.out + ".exr", a.spp, a.time, a.seed, a.threads, a.guiding)
     stats = []
     bpy.app.handlers.render_stats.append(lambda text, *_: stats.append(text))
     t1 = time.perf_counter()
@@ -247,19 +271,7 @@ def main():
     samples = max(done) if done else None
     # Cycles' own times are in the EXR header (cycles.<layer>.render_time: sampling). Read in a
     # process without bpy: with bpy loaded, the OpenEXR module sees none of the custom attributes.
-    import subprocess
-    reported = None
-    probe = ("import OpenEXR, json, sys\nwith OpenEXR.File(sys.argv[1]) as f:\n"
-             "    print(json.dumps({k: str(v) for k, v in f.header().items() if k.startswith('cycles.')}))")
-    try:
-        header = json.loads(subprocess.run([sys.executable, "-c", probe, a.out + ".exr"], check=True,
-                                           capture_output=True, text=True).stdout)
-        for key, v in header.items():
-            m = re.match(r"(?:(\d+):)?(\d+):(\d+(?:\.\d+)?)$", v)
-            if key.endswith(".render_time") and m:
-                reported = int(m.group(1) or 0) * 3600 + int(m.group(2)) * 60 + float(m.group(3))
-    except (subprocess.CalledProcessError, ValueError) as e:
-        print("cycles_peer: EXR header not read:", e, file=sys.stderr)
+    reported = cycles_render_seconds(a.out + ".exr")
     render = reported if reported is not None else t2 - t1
     result = {"renderer": "Cycles " + bpy.app.version_string, "guiding": a.guiding, "spp": samples,
               "render_seconds": render, "render_seconds_source": "cycles" if reported is not None else "wall",
@@ -270,4 +282,5 @@ def main():
     print("cycles_peer:", json.dumps(result))
 
 
-main()
+if __name__ == "__main__":
+    main()

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <map>
+
 namespace bp {
 namespace {
 
@@ -239,6 +241,44 @@ TEST(GltfLoader, BlenderExportedRoomWithSunPointLightTextureAndSmoothNormals) {
     EXPECT_NE(view.flags & BP_TEXTURE_NEAREST, 0u);  // Blender's Closest interpolation
   }
   EXPECT_EQ(textured, 1);
+}
+
+// The "real materials" room (scenes/blender/make_pbr_room.py, Blender 5.0's glTF exporter, compared
+// with Cycles by bench/pbr_room.sh): Principled BSDFs read as glTF's metallic-roughness model, a
+// thin glass pane (KHR_materials_transmission; the default ior, which Blender leaves out), a
+// base-colour texture on the floor, a normal map with exported TANGENTs on the back wall, the sun
+// and a point light -- all without a warning.
+TEST(GltfLoader, BlenderPbrRoomMaterialsGlassTexturesAndLights) {
+  const Scene s = load_gltf(test::scene_file("blender-pbr-room.glb"));
+  EXPECT_TRUE(s.warnings.empty()) << s.warnings.front();
+  ASSERT_EQ(s.lights.size(), 2u);
+  EXPECT_TRUE(s.camera.from_file);
+  EXPECT_TRUE(s.has_transmission());
+  EXPECT_TRUE(s.has_normal_maps());
+  std::map<std::string, const SceneMaterial*> by_name;
+  for (const SceneMaterial& m : s.materials) by_name[m.name] = &m;
+  struct Expected {
+    const char* name;
+    float metallic, roughness;
+  };
+  for (const Expected& e : {Expected{"gold", 1.0f, 0.2f}, Expected{"copper", 1.0f, 0.5f},
+                            Expected{"red_plastic", 0.0f, 0.4f}, Expected{"glazed_ceramic", 0.0f, 0.05f},
+                            Expected{"wood_floor", 0.0f, 0.35f}, Expected{"plaster", 0.0f, 0.9f},
+                            Expected{"white_paint", 0.0f, 0.6f}, Expected{"ceiling_paint", 0.0f, 0.6f},
+                            Expected{"window_glass", 0.0f, 0.0f}}) {
+    ASSERT_TRUE(by_name.count(e.name)) << e.name;
+    const SceneMaterial& m = *by_name[e.name];
+    EXPECT_TRUE(m.ggx) << e.name;
+    EXPECT_NEAR(m.metallic, e.metallic, 1e-6f) << e.name;
+    EXPECT_NEAR(m.roughness, e.roughness, 1e-6f) << e.name;
+    expect_vec3_near(m.dielectric_f0, glm::vec3(0.04f), 1e-6f);
+    EXPECT_EQ(m.has_normal_map(), m.name == "plaster") << e.name;
+    EXPECT_EQ(m.textures.base_color != BP_NO_TEXTURE, m.name == "wood_floor") << e.name;
+    EXPECT_FLOAT_EQ(m.transmission, m.name == "window_glass" ? 1.0f : 0.0f) << e.name;
+  }
+  expect_vec3_near(by_name["gold"]->base_color, {1.0f, 0.766f, 0.336f}, 1e-6f);
+  EXPECT_FLOAT_EQ(by_name["window_glass"]->ior, 1.5f);
+  expect_vec3_near(by_name["window_glass"]->transmission_tint, glm::vec3(1.0f), 1e-6f);
 }
 
 // ------------------------------------------------------------------ broken files

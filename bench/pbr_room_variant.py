@@ -1,0 +1,50 @@
+#!/usr/bin/env python3
+"""Control variants of scenes/blender-pbr-room.glb for bench/pbr_room.sh's diagnosis (standard
+library only; rewrites the .glb's JSON chunk, the binary chunk kept):
+
+  python3 bench/pbr_room_variant.py IN.glb OUT.glb [--lambert-room] [--nearest]
+
+--lambert-room: the paints, the plaster and the wood floor get KHR_materials_specular
+  specularFactor 0 (bundlepath: pure Lambert; Blender's importer: Specular IOR Level 0, Principled
+  without a specular layer), which takes glTF's and Blender's different dielectric layering out of
+  the room's large surfaces; the objects and the pane stay as they are.
+--nearest: every sampler NEAREST (Cycles: Closest), which takes the order of sRGB decoding and
+  bilinear filtering out of the floor texture.
+Then render OUT.glb as bench/pbr_room.sh does (bundlepath render ..., scenes/blender/cycles_pbr_render.py).
+"""
+import argparse
+import json
+import struct
+
+LAMBERT = ("white_paint", "ceiling_paint", "plaster", "wood_floor")
+
+
+def main():
+    p = argparse.ArgumentParser()
+    p.add_argument("src")
+    p.add_argument("dst")
+    p.add_argument("--lambert-room", action="store_true")
+    p.add_argument("--nearest", action="store_true")
+    a = p.parse_args()
+    data = open(a.src, "rb").read()
+    n = struct.unpack_from("<I", data, 12)[0]
+    gltf = json.loads(data[20:20 + n])
+    rest = data[20 + n:]
+    if a.lambert_room:
+        for m in gltf["materials"]:
+            if m["name"] in LAMBERT:
+                m.setdefault("extensions", {})["KHR_materials_specular"] = {"specularFactor": 0.0}
+        gltf["extensionsUsed"] = sorted(set(gltf.get("extensionsUsed", [])) | {"KHR_materials_specular"})
+    if a.nearest:
+        for s in gltf.get("samplers", []):
+            s["magFilter"] = 9728
+            s["minFilter"] = 9728
+    j = json.dumps(gltf, separators=(",", ":")).encode()
+    j += b" " * (-len(j) % 4)
+    with open(a.dst, "wb") as f:
+        f.write(struct.pack("<III", 0x46546C67, 2, 20 + len(j) + len(rest)) + struct.pack("<II", len(j), 0x4E4F534A)
+                + j + rest)
+
+
+if __name__ == "__main__":
+    main()
