@@ -13,6 +13,10 @@
 namespace bp {
 namespace {
 
+// The end line's hint: RB's bias (ImageErrorEstimate::rb_bias_rel_mse) past this share of the
+// estimated relMSE (the glossy box at its 10 s defaults: 0.0018-0.0028 of 0.0029-0.0044).
+constexpr double kRbBiasHintShare = 0.5;
+
 class CliObserver : public RenderObserver {
  public:
   // speaks: this process prints (MPI rank 0, or the only process); every rank hears Ctrl-C.
@@ -72,6 +76,11 @@ void print_summary(const RenderOptions& o, const RenderResult& r) {
                  o.target_error > 0.0 ? (r.outcome.target_reached ? ": --target-error reached"
                                                                   : ": --target-error not reached")
                                       : "");
+  // Where RB's bias is most of the error, more samples of the same mix will not remove it: say what will.
+  if (r.rb_bias_rel_mse > kRbBiasHintShare * r.estimated_rel_mse)
+    std::fprintf(stderr, "bundlepath: the ray bundles' bias is %.0f %% of that error and does not shrink with time; more of the "
+                 "time for the path tracer (a larger --ratio, or --mode pt) lowers it\n",
+                 100.0 * r.rb_bias_rel_mse / r.estimated_rel_mse);
   if (std::isfinite(r.expected_worst_region_error))
     std::fprintf(stderr, "bundlepath: worst of %dx%d regions expected off by %.2f %% (mean luminance; --stats has each)%s\n",
                  r.region_columns, r.region_rows, 100.0 * r.expected_worst_region_error,
