@@ -36,7 +36,7 @@ from bpy_extras.object_utils import world_to_camera_view
 from mathutils import Vector
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from room_rig import D, H, SUN_TRAVEL, W, WINDOW_Y, WINDOW_Z, add_lights_and_camera  # noqa: E402
+from room_rig import D, H, SUN_TRAVEL, W, WINDOW_Y, WINDOW_Z, add_lights_and_camera, mesh_object, quad  # noqa: E402
 
 FLOOR_TEX = (128, 64)                    # wood texture, texels (u, v)
 FLOOR_REPEAT = 2.0
@@ -139,27 +139,6 @@ def add_image(mat, image, socket, closest=False):
     tex.extension = 'REPEAT'
     links.new(tex.outputs["Color"], socket)
     return tex
-
-
-def mesh_object(name, verts, faces, mat, uv=None):
-    mesh = bpy.data.meshes.new(name)
-    mesh.from_pydata(verts, [], faces)
-    mesh.update()
-    if uv is not None:
-        layer = mesh.uv_layers.new(name="UVMap")
-        for loop in mesh.loops:
-            layer.data[loop.index].uv = uv(verts[loop.vertex_index])
-    mesh.materials.append(mat)
-    obj = bpy.data.objects.new(name, mesh)
-    bpy.context.scene.collection.objects.link(obj)
-    return obj
-
-
-def quad(name, verts, mat, facing, uv=None):
-    obj = mesh_object(name, verts, [(0, 1, 2, 3)], mat, uv)
-    normal = obj.data.polygons[0].normal
-    assert normal.dot(Vector(facing)) > 0.99, (name, tuple(normal), facing)
-    return obj
 
 
 def smooth(obj, mat, subdivide=0):

@@ -17,7 +17,7 @@ import bpy
 from mathutils import Vector
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from room_rig import D, H, W, WINDOW_Y, WINDOW_Z, add_lights_and_camera  # noqa: E402
+from room_rig import D, H, W, WINDOW_Y, WINDOW_Z, add_lights_and_camera, mesh_object, quad  # noqa: E402
 
 TEX_SIZE = 64                            # texels per side of the floor texture
 TEX_REPEAT = 2.0                         # the texture repeats twice across the floor
@@ -83,28 +83,6 @@ def floor_texture(folder):
     img.filepath = path
     img.colorspace_settings.name = 'sRGB'
     return img
-
-
-def mesh_object(name, verts, faces, mat, uv=None):
-    mesh = bpy.data.meshes.new(name)
-    mesh.from_pydata(verts, [], faces)
-    mesh.update()
-    if uv is not None:
-        layer = mesh.uv_layers.new(name="UVMap")
-        for loop in mesh.loops:
-            layer.data[loop.index].uv = uv(verts[loop.vertex_index])
-    mesh.materials.append(mat)
-    obj = bpy.data.objects.new(name, mesh)
-    bpy.context.scene.collection.objects.link(obj)
-    return obj
-
-
-def quad(name, verts, mat, facing, uv=None):
-    """One quad, counter-clockwise seen from its front; asserts that the front faces `facing`."""
-    obj = mesh_object(name, verts, [(0, 1, 2, 3)], mat, uv)
-    normal = obj.data.polygons[0].normal
-    assert normal.dot(Vector(facing)) > 0.99, (name, tuple(normal), facing)
-    return obj
 
 
 def build(width, height, folder):

@@ -1,4 +1,4 @@
-# The room's lights and camera, shared by make_room.py (Blender 3.4) and make_pbr_room.py (Blender 5):
+# The room's meshes' helpers, lights and camera, shared by make_room.py (Blender 3.4) and make_pbr_room.py (Blender 5):
 # the same sun through the window, point light under the ceiling and perspective camera in both.
 import math
 
@@ -49,3 +49,25 @@ def add_lights_and_camera(width, height, camera_at, look_at):
     scene.render.resolution_y = height
     scene.render.resolution_percentage = 100
     return scene, cam_obj
+
+
+def mesh_object(name, verts, faces, mat, uv=None):
+    mesh = bpy.data.meshes.new(name)
+    mesh.from_pydata(verts, [], faces)
+    mesh.update()
+    if uv is not None:
+        layer = mesh.uv_layers.new(name="UVMap")
+        for loop in mesh.loops:
+            layer.data[loop.index].uv = uv(verts[loop.vertex_index])
+    mesh.materials.append(mat)
+    obj = bpy.data.objects.new(name, mesh)
+    bpy.context.scene.collection.objects.link(obj)
+    return obj
+
+
+def quad(name, verts, mat, facing, uv=None):
+    """One quad, counter-clockwise seen from its front; asserts that the front faces `facing`."""
+    obj = mesh_object(name, verts, [(0, 1, 2, 3)], mat, uv)
+    normal = obj.data.polygons[0].normal
+    assert normal.dot(Vector(facing)) > 0.99, (name, tuple(normal), facing)
+    return obj
