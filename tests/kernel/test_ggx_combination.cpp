@@ -2,6 +2,7 @@
 // environment reflects exactly its directional albedo -- PT alone, RB alone and combined, with and
 // without light sampling -- and in a closed box with a rough gold floor and plastic walls the product
 // combination converges to the path tracer's answer, with the power to see a 2 % bias.
+#include "device/device_scene.h"
 #include "kernel/device_fixture.h"
 #include "kernel/region_test.h"
 #include "stats.h"
@@ -87,19 +88,7 @@ glm::dvec3 directional_albedo(const Material& material, float3 wo) {
 
 // The large regions (channel means) of the exact image.
 std::vector<double> exact_regions(const Scene& scene) {
-  const std::vector<Material> materials = {[&] {
-    Material m{};
-    const SceneMaterial& s = scene.materials[0];
-    m.flags = BP_MATERIAL_GGX;
-    for (int c = 0; c < 3; ++c) {
-      m.base_color[c] = s.base_color[c];
-      m.dielectric_f0[c] = s.dielectric_f0[c];
-    }
-    m.metallic = s.metallic;
-    m.roughness = s.roughness;
-    m.specular_weight = s.specular_weight;
-    return m;
-  }()};
+  const std::vector<Material> materials = pack_materials(scene, LightList{});  // as the device gets them
   // E depends on the angle of wo alone (an isotropic BRDF): a table over the image's angles, linear
   // between its 65 entries (the interpolation error is far below the quadrature's)
   const CameraParams camera = pack_camera(scene.camera, kFurnaceSize, kFurnaceSize);
