@@ -4,6 +4,7 @@
 
 #include "cli/interrupt.h"
 #include "cli/progress.h"
+#include "image/error_estimate.h"
 #include "render/render_job.h"
 
 #include <cmath>
@@ -65,11 +66,15 @@ void print_summary(const RenderOptions& o, const RenderResult& r) {
                (l.batch_rounds == 1 ? " round" : " rounds");
   }
   // RB's bias as far as PT sees it (ImageErrorEstimate::rb_bias_rel_mse): a combined render's.
-  char bias[96] = "";
+  char bias[160] = "";
   if (r.rb_bias_rel_mse > 0.0)
     std::snprintf(bias, sizeof bias, "; the ray bundles' bias, as the path tracer sees it: %.2g", r.rb_bias_rel_mse);
   else if (r.rb_bias_rel_mse == 0.0)
     std::snprintf(bias, sizeof bias, "; no ray-bundle bias seen");
+  else if (r.rb_bias_pending)  // too short a render to check RB's bias: say that the estimate lacks it
+    std::snprintf(bias, sizeof bias, "; the ray bundles' bias not checked yet, not included (%llu of %llu batch pairs)",
+                  static_cast<unsigned long long>(r.rb_bias_paired_batches),
+                  static_cast<unsigned long long>(kRbBiasMinPairedBatches));
   if (std::isfinite(r.estimated_rel_mse))
     std::fprintf(stderr, "bundlepath: estimated relMSE %.3g%s (noise from %s%s)%s\n",
                  r.estimated_rel_mse, r.frames.size() > 1 ? " (worst frame)" : "", batches.c_str(), bias,

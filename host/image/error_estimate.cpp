@@ -256,6 +256,14 @@ double ImageErrorEstimate::rb_bias_rel_mse() const {
   return c.estimate > student_t_95(double(c.batches) - 1.0) * c.standard_error ? c.estimate : 0.0;
 }
 
+std::uint64_t ImageErrorEstimate::rb_bias_rounds_needed() const {
+  if (!pt_rb_share_estimate_) return 0;
+  // The check pairs each of RB's closed batches after the first: it counts from batch K + 1 on.
+  const BatchMeansErrorEstimate::Level& r = estimates_[rb_layer()].state().levels[0];
+  const std::uint64_t batches_needed = kRbBiasMinPairedBatches + 1;
+  return r.batches >= batches_needed ? r.open_round : r.open_round + (batches_needed - r.batches) * r.batch_rounds;
+}
+
 void ImageErrorEstimate::set_factors(const std::string& layer, std::vector<double> factors) {
   for (std::size_t l = 0; l < layers_.size(); ++l)
     if (layer == layers_[l].name) factors_[l] = std::move(factors);

@@ -156,6 +156,12 @@ class ImageErrorEstimate {
   // estimate the relMSE of the bias b without a noise term to subtract. Counted where significant
   // (kRbBiasFalseAlarm), else 0; NaN without the check or before kRbBiasMinPairedBatches.
   double rb_bias_rel_mse() const;
+  // A combined render whose check has not counted yet (fewer than kRbBiasMinPairedBatches paired
+  // batches): its estimate has no term for RB's bias so far, and --target-error waits for one.
+  bool rb_bias_pending() const { return pt_rb_share_estimate_.has_value() && std::isnan(rb_bias_rel_mse()); }
+  // The round by which the check will have paired kRbBiasMinPairedBatches batches (RB's open batch
+  // and the batches still missing, each of RB's batch length); 0 without the check.
+  std::uint64_t rb_bias_rounds_needed() const;
   struct RbBiasCheck {
     double estimate = NAN;        // Σ_k E_k / Σ_k a_k, E_k = mean over values of y_k·Y_<k / (R̂² + 0.01), a_k = n_k N_<k
     double standard_error = NAN;  // from the spread of E_k about a_k·estimate (a martingale's increments)

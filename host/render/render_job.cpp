@@ -66,6 +66,14 @@ TargetProgress target_progress(const RenderState& s, std::uint64_t rounds_done) 
     t.rounds_needed = std::max(t.rounds_needed, f * double(rounds_done));
     t.fraction = std::min(t.fraction, std::min(1.0, 1.0 / f));
   }
+  // --target-error also waits for the check of RB's bias (the stop in run_render).
+  if (o.target_error > 0.0 && rounds_done > 0)
+    for (const RenderView& view : s.views)
+      if (view.error_estimate->rb_bias_pending()) {
+        const double needed = double(view.error_estimate->rb_bias_rounds_needed());
+        t.rounds_needed = std::max(t.rounds_needed, needed);
+        t.fraction = std::min(t.fraction, double(rounds_done) / needed);
+      }
   return t;
 }
 
@@ -287,6 +295,8 @@ void render_rounds(RenderState& s, RenderObserver& observer) {
       for (const RenderView& view : s.views) {
         if (o.target_error > 0.0 && view.error_estimate->degrees_of_freedom() < kMinDegreesOfFreedomForTarget)
           return false;
+        // Nor before RB's bias is checked: until then the estimate cannot hold it (rb_bias_pending).
+        if (o.target_error > 0.0 && view.error_estimate->rb_bias_pending()) return false;
         if (o.target_block_error > 0.0 && view.regional_error->degrees_of_freedom() < kMinDegreesOfFreedomForTarget)
           return false;
       }
@@ -392,6 +402,8 @@ RenderResult RenderJob::run(RenderObserver& observer) {
   r.region_rows = s.first_view().regional_error->grid().rows;
   const ImageErrorEstimate& e = *s.first_view().error_estimate;
   r.rb_bias_rel_mse = e.rb_bias_rel_mse();
+  r.rb_bias_pending = e.rb_bias_pending();
+  r.rb_bias_paired_batches = e.rb_bias_check().batches;
   for (std::size_t l = 0; l < e.layers().size(); ++l)
     r.error_layers.push_back({e.layer_name(l), e.layers()[l].batches(), e.layers()[l].batch_rounds()});
   count_work(s, r);

@@ -68,6 +68,8 @@ struct RenderResult {
   std::vector<std::pair<std::string, ErrorMetrics>> reference_metrics;  // per layer, with --reference
   double estimated_rel_mse = NAN;  // a walkthrough: its worst frame's
   double rb_bias_rel_mse = NAN;    // the first view's part of it from RB's bias (ImageErrorEstimate); NaN: not checked
+  bool rb_bias_pending = false;    // a combined render's check not counted yet (too few of RB's batches paired)
+  std::uint64_t rb_bias_paired_batches = 0;  // RB's batches the check has paired so far
   // The regional error (image/regional_error.h): the expected worst region's relative error and the
   // grid (a walkthrough: its worst frame's); NaN before two batches.
   double expected_worst_region_error = NAN;

@@ -48,9 +48,11 @@ TEST(TargetError, BadValuesExitTwoWithOneLine) {
 // 0.0005..0.0015; each run's own estimate must be within 1.5x of the measured value. The path tracer,
 // and the combination at c = 1, whose RB batches are 64 rounds: before PT's and RB's layers were
 // estimated from batches of their own it waited for eight of those, 512 rounds, and stopped at 0.0004.
+// It also waits for the check of RB's bias (six of RB's batches: 384 rounds at 64, where it stopped
+// at 0.00047), so its batches here are of 16 rounds, and the check counts from round 96.
 TEST(TargetError, CornellBoxStopsNearTheTargetError) {
   const std::string dir = fresh_dir("target_error_box");
-  for (const std::string mode : {"--mode pt", "--mode combined --ratio 1"}) {
+  for (const std::string mode : {"--mode pt", "--mode combined --ratio 1 --error-batch 16"}) {
     double estimated[2];
     for (int s = 0; s < 2; ++s) {
       const std::string out = dir + "/seed" + std::to_string(s + 1);
@@ -87,6 +89,30 @@ TEST(TargetError, CornellBoxStopsNearTheTargetError) {
     const double variance_part = estimated[0] - (bias.is_number() ? bias.get<double>() : 0.0);
     EXPECT_NEAR(estimated_rel_mse_of(a, variance), variance_part, 1e-3 * variance_part) << mode;
   }
+}
+
+// A combined render's estimate holds RB's bias only once the check of RB's layer against PT's estimate
+// of its share has paired kRbBiasMinPairedBatches of RB's batches: --target-error waits for it, and a
+// render too short for it says that the estimate lacks it. At c = 1/8, PT's variance is most of the
+// estimate, so an easy target has its 7 degrees of freedom after about 16 rounds (where it stopped
+// before the wait); RB's batches of 32 iterations are 4 rounds: the check counts from the sixth, 24.
+TEST(TargetError, CombinedWaitsForTheCheckOfRbsBias) {
+  const std::string dir = fresh_dir("target_error_rb_bias");
+  const std::string common = "render " + kBox + "--mode combined --ratio 1/8 --width 32 --height 32 --error-batch 32 ";
+  CliResult r = run_cli(common + "--target-error 0.5 --out " + dir + "/target --stats " + dir + "/target.json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  nlohmann::json stats = read_json(dir + "/target.json");
+  EXPECT_EQ(stats["target_reached"], true);
+  EXPECT_GE(stats["error_estimate"]["rb_bias_check"]["batches"].get<int>(), 5) << stats["error_estimate"].dump();
+  EXPECT_GE(stats["rounds"].get<int>(), 24);
+  EXPECT_TRUE(stats["error_estimate"]["rb_bias_rel_mse"].is_number());
+  EXPECT_EQ(r.output.find("not checked yet"), std::string::npos) << r.output;
+  // 8 rounds: two of RB's batches, one pair.
+  r = run_cli(common + "--spp 8 --out " + dir + "/short --stats " + dir + "/short.json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(read_json(dir + "/short.json")["error_estimate"]["rb_bias_rel_mse"].is_null());
+  EXPECT_NE(r.output.find("the ray bundles' bias not checked yet, not included (1 of 5 batch pairs)"), std::string::npos)
+      << r.output;
 }
 
 // --time caps a target that cannot be reached in it: the render ends by time, and says so.
