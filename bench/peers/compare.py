@@ -1,13 +1,15 @@
 """Image against reference, the figures of the peer table (issue 29). Runs in the peers' venv
 (numpy, OpenEXR):
 
-  python bench/peers/compare.py IMAGE.exr REFERENCE.exr [--block 8]      -> one JSON line
+  python bench/peers/compare.py IMAGE.exr REFERENCE.exr [--grid 8]       -> one JSON line
 
 * rel_mse: mean over pixels and RGB channels of (I - R)^2 / (R^2 + 0.01), bundlepath's definition
   (`bundlepath compare`, host/image/image.h);
 * worst_block: the largest relative error |mean_b(I) - mean_b(R)| / mean_b(R) of the luminance
-  (Rec. 709) averaged over each BLOCK x BLOCK block (edge blocks as far as the image goes), over the
-  blocks whose reference mean is at least 1 % of the image's (black regions have no relative error);
+  (Rec. 709) averaged over each block of a GRID x GRID grid (pixel (x, y) in block
+  (x·GRID / width, y·GRID / height), as `render --regions` and bench/regional_error.sh cut images:
+  80 x 45 pixels at 640x360), over the blocks whose reference mean is at least 1 % of the image's
+  (black regions have no relative error);
 * mean, reference_mean, mean_rel: the image's mean luminance, the reference's, and their relative
   difference.
 """
@@ -39,26 +41,24 @@ def luminance(img):
     return img @ np.array([0.2126, 0.7152, 0.0722])
 
 
-def block_means(lum, b):
+def block_means(lum, grid):
     h, w = lum.shape
-    out = []
-    for y in range(0, h, b):
-        for x in range(0, w, b):
-            out.append(lum[y:y + b, x:x + b].mean())
-    return np.array(out)
+    rows = np.arange(h) * grid // h  # the block row of each pixel row (host/image/regions.h)
+    cols = np.arange(w) * grid // w
+    return np.array([lum[rows == by][:, cols == bx].mean() for by in range(grid) for bx in range(grid)])
 
 
-def compare(image, reference, block=8):
+def compare(image, reference, grid=8):
     if image.shape != reference.shape:
         raise SystemExit("sizes differ: %s vs %s" % (image.shape, reference.shape))
     if not np.all(np.isfinite(image)):
         raise SystemExit("the image has non-finite pixels")
     rel_mse = float(np.mean((image - reference) ** 2 / (reference ** 2 + 0.01)))
     li, lr = luminance(image), luminance(reference)
-    bi, br = block_means(li, block), block_means(lr, block)
+    bi, br = block_means(li, grid), block_means(lr, grid)
     keep = br >= 0.01 * lr.mean()
     rel = np.abs(bi[keep] - br[keep]) / br[keep]
-    return {"rel_mse": rel_mse, "worst_block": float(rel.max()) if rel.size else 0.0, "block": block,
+    return {"rel_mse": rel_mse, "worst_block": float(rel.max()) if rel.size else 0.0, "grid": grid,
             "mean": float(li.mean()), "reference_mean": float(lr.mean()),
             "mean_rel": float(li.mean() / lr.mean() - 1.0)}
 
@@ -67,9 +67,9 @@ def main():
     p = argparse.ArgumentParser()
     p.add_argument("image")
     p.add_argument("reference")
-    p.add_argument("--block", type=int, default=8)
+    p.add_argument("--grid", type=int, default=8)
     a = p.parse_args()
-    print(json.dumps(compare(read_rgb(a.image), read_rgb(a.reference), a.block)))
+    print(json.dumps(compare(read_rgb(a.image), read_rgb(a.reference), a.grid)))
 
 
 if __name__ == "__main__":
