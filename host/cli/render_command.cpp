@@ -86,9 +86,14 @@ void print_summary(const RenderOptions& o, const RenderResult& r) {
     std::fprintf(stderr, "bundlepath: the ray bundles' bias is %.0f %% of that error and does not shrink with time; more of the "
                  "time for the path tracer (a larger --ratio, or --mode pt) lowers it\n",
                  100.0 * r.rb_bias_rel_mse / r.estimated_rel_mse);
+  // Fewer degrees of freedom than a target waits for: the estimate is rough, and a region may be off
+  // by several of its reported errors.
+  char rough[96] = "";
+  if (r.region_degrees_of_freedom < kMinDegreesOfFreedomForTarget)
+    std::snprintf(rough, sizeof rough, "; rough, from %.0f degrees of freedom: render longer", r.region_degrees_of_freedom);
   if (std::isfinite(r.expected_worst_region_error))
-    std::fprintf(stderr, "bundlepath: worst of %dx%d regions expected off by %.2f %% (mean luminance; --stats has each)%s\n",
-                 r.region_columns, r.region_rows, 100.0 * r.expected_worst_region_error,
+    std::fprintf(stderr, "bundlepath: worst of %dx%d regions expected off by %.2f %% (mean luminance; --stats has each%s)%s\n",
+                 r.region_columns, r.region_rows, 100.0 * r.expected_worst_region_error, rough,
                  o.target_block_error > 0.0 ? (r.outcome.target_reached ? ": --target-block-error reached"
                                                                         : ": --target-block-error not reached")
                                             : "");

@@ -136,6 +136,24 @@ std::vector<double> RegionalError::variances(const Track& t) const {
   return region_totals(t, var, true);
 }
 
+std::vector<double> RegionalError::rb_variances() const {
+  std::vector<double> v = variances(*r_);
+  const std::vector<double> r = means(*r_);
+  const double own_dof = double(r_->estimate->batches()) - 1.0;
+  double pooled_variance = 0.0, pooled_square = 0.0;  // q̄ = Σ V_r / Σ r²
+  for (std::size_t b = 0; b < v.size(); ++b)
+    if (std::isfinite(v[b] + r[b])) {
+      pooled_variance += v[b];
+      pooled_square += r[b] * r[b];
+    }
+  if (!(own_dof >= 1.0) || !(pooled_square > 0.0)) return v;
+  const double pooled_relative = pooled_variance / pooled_square, prior_dof = kRegionalRbPoolDegreesOfFreedom;
+  // (ν V_r + ν₀ q̄ r²) / (ν + ν₀): the region's own variance and the pool's at its level
+  for (std::size_t b = 0; b < v.size(); ++b)
+    if (std::isfinite(v[b] + r[b])) v[b] = (own_dof * v[b] + prior_dof * pooled_relative * r[b] * r[b]) / (own_dof + prior_dof);
+  return v;
+}
+
 namespace {
 // RB's discretisation bias in a region, squared, as far as PT sees it: r and d estimate the same
 // share, d without bias, so E[(r − d)²] = b² + V_r + V_d; the estimate max(0, (r − d)² − V_r − V_d).
@@ -159,7 +177,7 @@ RbShareMix rb_share_mix(double v_r, double v_d, double r, double d) {
 std::vector<double> RegionalError::rb_weights() const {
   std::vector<double> out(grid_.count(), std::nan(""));
   if (!r_ || !d_) return out;
-  const std::vector<double> v_r = variances(*r_), v_d = variances(*d_), r = means(*r_), d = means(*d_);
+  const std::vector<double> v_r = rb_variances(), v_d = variances(*d_), r = means(*r_), d = means(*d_);
   for (std::size_t b = 0; b < out.size(); ++b)
     if (!std::isnan(v_r[b] + v_d[b] + r[b] + d[b])) out[b] = rb_share_mix(v_r[b], v_d[b], r[b], d[b]).lambda;
   return out;
@@ -168,7 +186,7 @@ std::vector<double> RegionalError::rb_weights() const {
 RegionalError::RbLevelVariances RegionalError::rb_level_relative_variances() const {
   RbLevelVariances out{std::vector<double>(grid_.count(), std::nan("")), std::vector<double>(grid_.count(), std::nan(""))};
   if (!r_ || !d_) return out;
-  const std::vector<double> v_r = variances(*r_), v_d = variances(*d_), r = means(*r_), d = means(*d_);
+  const std::vector<double> v_r = rb_variances(), v_d = variances(*d_), r = means(*r_), d = means(*d_);
   for (std::size_t b = 0; b < grid_.count(); ++b) {
     if (std::isnan(v_r[b] + v_d[b]) || !(r[b] > 0.0)) continue;
     const RbShareMix mix = rb_share_mix(v_r[b], v_d[b], r[b], d[b]);
@@ -193,7 +211,7 @@ std::vector<double> RegionalError::region_means() const {
 std::vector<double> RegionalError::standard_errors() const {
   const std::size_t n = grid_.count();
   const std::vector<double> none(n, 0.0);
-  const std::vector<double> v_w = w_ ? variances(*w_) : none, v_r = r_ ? variances(*r_) : none;
+  const std::vector<double> v_w = w_ ? variances(*w_) : none, v_r = r_ ? rb_variances() : none;
   std::vector<double> out(n);
   const bool field = regional_field_ && d_;
   const std::vector<double> v_u = field ? variances(*u_) : none, v_d = field ? variances(*d_) : none;
@@ -225,8 +243,27 @@ std::vector<double> RegionalError::relative_standard_errors() const {
 
 double RegionalError::degrees_of_freedom() const {
   double least = INFINITY;
-  for (const Track* t : tracks()) least = std::min(least, double(t->estimate->batches()) - 1.0);
-  return std::isfinite(least) ? std::max(0.0, least) : 0.0;
+  for (const Track* t : tracks()) {
+    const double own = double(t->estimate->batches()) - 1.0;
+    if (own < 1.0) return 0.0;
+    if (!t->per_pixel) {
+      least = std::min(least, own + kRegionalRbPoolDegreesOfFreedom);  // RB's, pooled
+      continue;
+    }
+    // PT's: per region, a sum of its pixels' variances, each with `own` degrees of freedom; the
+    // sum's by Welch–Satterthwaite, ν (Σ V_p)² / Σ V_p²
+    const std::vector<double> var = t->estimate->variance_of_mean();
+    std::vector<double> sum(grid_.count(), 0.0), sum_sq(grid_.count(), 0.0);
+    for (int y = 0; y < grid_.height; ++y)
+      for (int x = 0; x < grid_.width; ++x) {
+        const double v = var[std::size_t(y) * std::size_t(grid_.width) + std::size_t(x)];
+        sum[grid_.region_of(x, y)] += v;
+        sum_sq[grid_.region_of(x, y)] += v * v;
+      }
+    for (std::size_t b = 0; b < sum.size(); ++b)
+      if (sum_sq[b] > 0.0) least = std::min(least, own * sum[b] * sum[b] / sum_sq[b]);
+  }
+  return std::isfinite(least) ? least : 0.0;
 }
 
 double RegionalError::rb_batch_correlation() const {

@@ -48,6 +48,19 @@ namespace bp {
 // bench/regional_error.sh and tests/e2e/test_regional_error.cpp test the variance it gives.
 constexpr std::uint64_t kRegionalBatchRbIterations = 32;
 
+// A region's variance of RB's mean from its own batches has batches − 1 degrees of freedom, and a
+// short render at a small c holds few batches (the Phong house at 1280x720, 30 s: two rounds of 128
+// iterations, one degree of freedom; one of its 64 regions reported 7 of its own standard errors off).
+// So each region's relative variance of RB's mean, V_r / r², is pooled with that of all regions,
+// Σ V_r / Σ r², counted as this many degrees of freedom of its own (the normal-inverse-χ² posterior
+// mean): (ν V_r / r² + ν₀ q̄) / (ν + ν₀). The pool holds because RB's chain moves the light of every
+// region alike: on the Lambert house (--mode rb, 320x180, 1024 iterations, 16 degrees of freedom)
+// the regions' relative standard errors spread 0.046–0.146 (a coefficient of variation of 0.24,
+// 0.18 of it the estimates' own), and the pooled q̄ is within 3 % of their mean and median; a true
+// spread of ±17 % in the standard error makes the pool worth about 16 degrees of freedom of a
+// region's own, and half of that is counted.
+constexpr double kRegionalRbPoolDegreesOfFreedom = 8.0;
+
 class RegionalError {
  public:
   struct Inputs {
@@ -88,7 +101,10 @@ class RegionalError {
   std::vector<double> standard_errors() const;
   // Per region, the standard error over the mean (NaN where the mean is not positive).
   std::vector<double> relative_standard_errors() const;
-  // The least degrees of freedom of the layers' variances (batches − 1); 0 until each has two.
+  // The least degrees of freedom of a region's variance, over the regions and layers; 0 until every
+  // layer has two batches. RB's pooled variance has ν + ν₀ (kRegionalRbPoolDegreesOfFreedom); PT's,
+  // its pixels' variances summed, ν (Σ V_p)² / Σ V_p² (Welch–Satterthwaite: ν times the region's
+  // pixels where they are alike, ν where one pixel holds all).
   double degrees_of_freedom() const;
   // Per region, the lag-1 correlation of RB's consecutive batch means (luminance), pooled over the
   // regions: the check that the batches outlast the chain's correlation (NaN: no RB, or < 3 batches).
@@ -107,6 +123,7 @@ class RegionalError {
   int packed_width(const Track& t) const;
   void update_sums();
   std::vector<double> variances(const Track& t) const;
+  std::vector<double> rb_variances() const;  // RB's, pooled (kRegionalRbPoolDegreesOfFreedom)
   std::vector<double> region_totals(const Track& t, const std::vector<double>& values, bool squared_scale) const;
   std::vector<double> means(const Track& t) const;
   std::vector<Track*> tracks();

@@ -398,6 +398,7 @@ RenderResult RenderJob::run(RenderObserver& observer) {
   r.mrays_per_second = s.outcome.seconds > 0 ? double(s.outcome.rays) / s.outcome.seconds * 1e-6 : 0.0;
   r.estimated_rel_mse = s.estimated_rel_mse;
   r.expected_worst_region_error = s.expected_worst_region_error;
+  r.region_degrees_of_freedom = s.first_view().regional_error->degrees_of_freedom();
   r.region_columns = s.first_view().regional_error->grid().columns;
   r.region_rows = s.first_view().regional_error->grid().rows;
   const ImageErrorEstimate& e = *s.first_view().error_estimate;

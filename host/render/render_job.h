@@ -73,6 +73,7 @@ struct RenderResult {
   // The regional error (image/regional_error.h): the expected worst region's relative error and the
   // grid (a walkthrough: its worst frame's); NaN before two batches.
   double expected_worst_region_error = NAN;
+  double region_degrees_of_freedom = 0.0;  // the first view's (RegionalError::degrees_of_freedom)
   int region_columns = 0, region_rows = 0;
   struct ErrorLayer {  // the estimate's batches per estimator's layer (image/error_estimate.h)
     std::string name;   // "pt", "rb"

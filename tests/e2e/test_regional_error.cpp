@@ -127,5 +127,20 @@ TEST(RegionalErrorCli, TargetBlockErrorStopsNearTheWorstRegionsError) {
   EXPECT_EQ(with_spp.exit_code, 2);
 }
 
+// A regional estimate from few degrees of freedom is said to be rough: the path tracer alone at 2 spp
+// on regions of 2x1.5 pixels has about one, at 64 spp on regions of 8x6 pixels more than seven.
+TEST(RegionalErrorCli, AnEstimateFromFewDegreesOfFreedomIsSaidToBeRough) {
+  const std::string dir = fresh_dir("regional_error_rough");
+  CliResult few = run_cli("render " + kBox + "--width 16 --height 12 --mode pt --spp 2 --out " + dir + "/few");
+  ASSERT_EQ(few.exit_code, 0) << few.output;
+  EXPECT_NE(few.output.find("rough, from 1 degrees of freedom"), std::string::npos) << few.output;
+  CliResult enough = run_cli("render " + kBox + "--width 64 --height 48 --mode pt --spp 64 --out " + dir +
+                             "/enough --stats " + dir + "/enough.json");
+  ASSERT_EQ(enough.exit_code, 0) << enough.output;
+  EXPECT_GE(read_json(dir + "/enough.json")["regional_error"]["degrees_of_freedom"].get<double>(), 7.0);
+  EXPECT_NE(enough.output.find("regions expected off by"), std::string::npos) << enough.output;
+  EXPECT_EQ(enough.output.find("; rough"), std::string::npos) << enough.output;
+}
+
 }  // namespace
 }  // namespace bp::test
