@@ -40,12 +40,14 @@ const ImageRGB* RenderLayers::find(const std::string& name) const {
   return nullptr;
 }
 
-std::vector<double> rb_pixel_factors(const RenderView& view) {
+std::vector<double> rb_region_weights(const RenderView& view) {
   const RegionGrid& grid = view.rb_level->grid();
   const bool regional = grid.count() > 1 && view.regional_error && view.regional_error->grid().columns == grid.columns &&
                         view.regional_error->grid().rows == grid.rows;
-  return view.rb_level->pixel_factors(regional ? view.regional_error->rb_weights() : std::vector<double>{});
+  return regional ? view.regional_error->rb_weights() : std::vector<double>{};
 }
+
+std::vector<double> rb_pixel_factors(const RenderView& view) { return view.rb_level->pixel_factors(rb_region_weights(view)); }
 
 RenderLayers make_layers(const RenderState& s, const RenderView& view) {
   const int width = s.scene.width, height = s.scene.height;

@@ -24,6 +24,8 @@ RenderLayers make_layers(const RenderState& s, const RenderView& view);
 // image/rb_level.h): under the regional level with RB's weights from the view's regional error, so
 // that the image is the estimator whose error that reports.
 std::vector<double> rb_pixel_factors(const RenderView& view);
+// RB's weight per region that those factors take from the regional error (empty: RbLevel's own).
+std::vector<double> rb_region_weights(const RenderView& view);
 
 // Writes the view's PREFIX.exr (the layers and the standard error), PREFIX.png and the contact sheet
 // (one view); gives their paths.

@@ -1,5 +1,6 @@
 #include "render/render_stats.h"
 
+#include "render/render_outputs.h"
 #include "render/render_state.h"
 
 #include <cmath>
@@ -121,7 +122,8 @@ void add_error_estimate_stats(const RenderState& s, nlohmann::json& stats) {
 }
 
 // --rb-level (image/rb_level.h): per channel, the factor on RB's layer and the two levels it weighs
-// (corrected: one each; regional: one per region, row by row).
+// (corrected: one each; regional: one per region, row by row, with the regional error's weights as
+// the image has them).
 void add_rb_level_stats(const RenderState& s, nlohmann::json& stats) {
   if (!s.first_view().rb_level) {
     stats["rb_level"] = {{"mode", "own"}};
@@ -136,7 +138,7 @@ void add_rb_level_stats(const RenderState& s, nlohmann::json& stats) {
   };
   stats["rb_level"] = {{"mode", s.spec.rb_level},
                        {"regions", {l.grid().columns, l.grid().rows}},
-                       {"factors", json3(l.factors())},
+                       {"factors", json3(l.factors(rb_region_weights(s.first_view())))},
                        {"rb", json3(l.rb_levels())},
                        {"rb_stderr", json3(l.rb_standard_errors())},
                        {"pt", json3(l.pt_levels())},

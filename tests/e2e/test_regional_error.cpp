@@ -51,9 +51,9 @@ Render read_render(const std::string& out, int width, int height) {
 }
 
 // Six seeds, three pairs, 64 regions each, less the black ones: about 140 z-scores. Mean z² is
-// 1 ± 0.12 for a right estimate (RB's batches here: 16 of 32 iterations, so the estimated variances
-// have about 15 degrees of freedom and E[z²] ≈ 1.15); a variance estimate off by 2x moves it to 0.5
-// or 2.
+// 1 ± 0.12 for a right estimate (RB's batches here: 32 of 16 iterations, pooled over the regions, so
+// the estimated variances have about 39 degrees of freedom and E[z²] ≈ 1.05); a variance estimate off
+// by 2x moves it to 0.5 or 2.
 TEST(RegionalErrorCli, SeedPairsDifferByTheRegionalErrorTheRendersReport) {
   const std::string dir = fresh_dir("regional_error_pairs");
   constexpr int kWidth = 64, kHeight = 48, kSeeds = 6;
