@@ -251,15 +251,11 @@ double RegionalError::degrees_of_freedom() const {
       continue;
     }
     // PT's: per region, a sum of its pixels' variances, each with `own` degrees of freedom; the
-    // sum's by Welch–Satterthwaite, ν (Σ V_p)² / Σ V_p²
+    // sum's by Welch–Satterthwaite, ν (Σ V_p)² / Σ V_p² (region_totals' scales, 1/n and 1/n², cancel)
     const std::vector<double> var = t->estimate->variance_of_mean();
-    std::vector<double> sum(grid_.count(), 0.0), sum_sq(grid_.count(), 0.0);
-    for (int y = 0; y < grid_.height; ++y)
-      for (int x = 0; x < grid_.width; ++x) {
-        const double v = var[std::size_t(y) * std::size_t(grid_.width) + std::size_t(x)];
-        sum[grid_.region_of(x, y)] += v;
-        sum_sq[grid_.region_of(x, y)] += v * v;
-      }
+    std::vector<double> var_sq(var.size());
+    for (std::size_t i = 0; i < var.size(); ++i) var_sq[i] = var[i] * var[i];
+    const std::vector<double> sum = region_totals(*t, var, false), sum_sq = region_totals(*t, var_sq, true);
     for (std::size_t b = 0; b < sum.size(); ++b)
       if (sum_sq[b] > 0.0) least = std::min(least, own * sum[b] * sum[b] / sum_sq[b]);
   }
