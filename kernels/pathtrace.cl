@@ -12,6 +12,7 @@
 #include "shared/textured.h"
 #include "shared/alpha_mask.h"
 #include "shared/through_panes.h"
+#include "shared/dielectric.h"
 
 typedef struct {
   BP_GLOBAL const BvhNode* nodes;
@@ -157,7 +158,9 @@ static PathRadiance trace_path(const SceneRefs* scene, const PathTraceParams* pa
   // eye vertex's proxy density of dir.
   float last_prefix_beta = 0.0f, last_pdf_bsdf = 0.0f, last_pdf_bsdf_patch = 0.0f, last_pdf_proxy = 0.0f;
   bp_u32 last_patch = 0u;  // and its patch
-  int last_delta = 0;      // 1: dir was sampled by a pane's mirror, a delta no light sample reaches (p_L 0)
+  int last_delta = 0;      // 1: dir was sampled by a delta vertex (a mirror, a refraction): p_L 0
+  float3 medium = make_float3(0.0f, 0.0f, 0.0f);  // attenuation (m^-1) of the refractor the ray is inside
+  float3 vertex = origin;  // where the segment starts, before the offset of origin
   for (bp_u32 depth = 0; depth < params->max_depth; ++depth) {
     Hit hit;
     *rays += 1u;
@@ -165,6 +168,7 @@ static PathRadiance trace_path(const SceneRefs* scene, const PathTraceParams* pa
     if (!closest_hit_through_panes(scene->nodes, scene->triangles, scene->shading, scene->materials,
                                    &scene->lights.textures, scene->alpha_masks, origin, dir, params->ray_epsilon, 1,
                                    rng, &throughput, &pane_event, &hit, rays)) {
+      if (BP_FEATURE_TRANSMISSION) throughput *= medium_transmittance(medium, BP_FLOAT_MAX);
       add_environment(scene, params, &pdf, depth, dir, throughput, light_sampling, last_prefix_beta,
                       last_pdf_bsdf_patch, last_pdf_bsdf, last_pdf_proxy, last_patch, last_delta, &radiance);
       break;
@@ -172,8 +176,27 @@ static PathRadiance trace_path(const SceneRefs* scene, const PathTraceParams* pa
     SurfaceHit surface = surface_at_shaded(scene->shading, scene->shading_normals, params->shading_normals,
                                            &scene->lights.textures, scene->tangents, hit.triangle, hit.b1, hit.b2,
                                            origin + dir * hit.t, dir);
-    if (BP_FEATURE_TRANSMISSION && pane_event == BP_PANE_MIRROR) {
-      // The pane's mirror (DESIGN.md §11), throughput already times F T / P(mirror): a delta vertex,
+    if (BP_FEATURE_TRANSMISSION) throughput *= medium_transmittance(medium, length(surface.position - vertex));
+    vertex = surface.position;  // Beer-Lambert over the segment between the two surfaces, not from the offset
+    int delta = BP_FEATURE_TRANSMISSION && pane_event == BP_PANE_MIRROR;
+    if (delta) dir = reflect_about(-dir, surface.normal);  // throughput already times F T / P(mirror)
+    BP_GLOBAL const Material* hit_material = &scene->materials[surface.material];
+    if (BP_FEATURE_TRANSMISSION && !delta && (hit_material->flags & BP_MATERIAL_REFRACTOR)) {
+      const int front = surface.reflects;
+      const float rest = front || (hit_material->flags & BP_MATERIAL_DOUBLE_SIDED)
+                             ? bsdf_from_material(hit_material).continuation : 0.0f;
+      DielectricSample ds =
+          dielectric_sample(-dir, surface.shading_normal, surface.normal, front, hit_material->ior,
+                            hit_material->transmission, bp_load3(hit_material->transmission_tint), rest,
+                            rng_uniform(rng));
+      if (ds.event == BP_DIELECTRIC_ABSORBED) break;
+      throughput *= ds.factor;
+      if (ds.event == BP_DIELECTRIC_REFRACT) medium = front ? bp_load3(hit_material->attenuation) : make_float3(0.0f, 0.0f, 0.0f);
+      delta = ds.event != BP_DIELECTRIC_REST;
+      if (delta) dir = ds.wi;
+    }
+    if (delta) {
+      // A delta vertex (DESIGN.md §11): a pane's mirror, or a refractor's refraction or reflection;
       // PT's alone. beta 0 (w_RB = 0 from here on), no light sample, and the vertex after it sees
       // emitters by this direction alone: p_L 0 and any positive s p_b in the last-segment split.
       if (params->weight_mode == BP_WEIGHTS_PAPER) path_pdf_step(&pdf, 1.0f, BP_FLOAT_MAX);  // P* infinite: w_PT 1
@@ -182,8 +205,8 @@ static PathRadiance trace_path(const SceneRefs* scene, const PathTraceParams* pa
       last_pdf_bsdf = last_pdf_bsdf_patch = 1.0f;
       last_delta = 1;
       last_patch = surface.patch;
-      origin = surface.position + surface.normal * params->ray_epsilon;
-      dir = reflect_about(-dir, surface.normal);
+      origin = surface.position + surface.normal * (dot(surface.normal, dir) > 0.0f ? params->ray_epsilon
+                                                                                     : -params->ray_epsilon);
       continue;
     }
     if (!surface.reflects && !(scene->materials[surface.material].flags & BP_MATERIAL_DOUBLE_SIDED)) break;

@@ -27,8 +27,11 @@ std::vector<Material> pack_materials(const Scene& scene, const LightList& lights
     p.roughness = m.roughness;
     p.specular_weight = m.specular_weight;
     if (m.transmission > 0.0f) {
-      p.flags |= BP_MATERIAL_THIN_TRANSMITTER;
-      for (int c = 0; c < 3; ++c) p.transmission_tint[c] = m.transmission_tint[c] * m.transmission;
+      p.flags |= m.volume ? BP_MATERIAL_REFRACTOR : BP_MATERIAL_THIN_TRANSMITTER;
+      for (int c = 0; c < 3; ++c) {
+        p.transmission_tint[c] = m.transmission_tint[c] * m.transmission;
+        p.attenuation[c] = m.volume ? m.attenuation[c] : 0.0f;
+      }
       p.transmission = m.transmission;
     }
     p.ior = m.ior;

@@ -24,8 +24,8 @@ constexpr std::string_view kSupported[] = {
     "KHR_materials_emissive_strength",
     "KHR_materials_ior",
     "KHR_materials_specular",      // factors; its textures are warned (gltf_ignored_feature_warnings)
-    "KHR_materials_transmission",  // a thin pane; what it cannot be is warned per material
-    "KHR_materials_volume",        // drawn thin-walled, warned per material
+    "KHR_materials_transmission",  // a thin pane, or with a volume a refractor; what it cannot be is warned
+    "KHR_materials_volume",        // thickness > 0: refracted, attenuated (gltf_loader.cpp's read_transmission)
     "KHR_mesh_quantization",       // integer vertex attributes (Loader::read_attribute)
     "KHR_texture_transform",
     "KHR_xmp_json_ld",  // metadata

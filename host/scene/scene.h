@@ -27,6 +27,10 @@ struct SceneMaterial {
   float transmission = 0.0f;
   glm::vec3 transmission_tint{1.0f};  // baseColor (factor): the pane's colour
   float ior = 1.5f;
+  // KHR_materials_volume with thickness > 0: the transmitted share refracts into the mesh's medium
+  // (kernels/shared/dielectric.h), which attenuates by exp(-attenuation d) over d metres.
+  bool volume = false;
+  glm::vec3 attenuation{0.0f};  // m^-1
   // glTF's metallic-roughness BRDF (kernels/shared/metallic_roughness.h) when `ggx`; kd, ks and
   // shininess are then unused. Without it the material is Modified Phong (extras.phong, Lambert).
   bool ggx = false;
@@ -103,7 +107,7 @@ struct Scene {
   bool has_textures() const;             // some material has a texture
   bool has_normal_maps() const;          // some material has a normalTexture
   bool has_alpha_masks() const;          // some material has alphaMode MASK with a texture
-  bool has_transmission() const;         // some material is a thin transmitter (transmission > 0)
+  bool has_transmission() const;         // some material transmits (a thin pane or a refractor)
   // The environment as the kernels see it: the EXR's map, else the uniform radiance's 1x1 map.
   std::shared_ptr<const EnvironmentImage> environment_map() const {
     return environment_image ? environment_image : std::make_shared<const EnvironmentImage>(uniform_environment(environment));

@@ -24,7 +24,7 @@ typedef struct {
   float density_alpha;    // GGX alpha of the density and of every weight input
   float density_base_max; // max(r, g, b) of the base colour, for the lobe choice and s
   float density_metallic;
-  float opaque;           // 1 - transmission: the opaque rest's share of a thin transmitter (DESIGN.md §11), else 1
+  float opaque;           // 1 - transmission: the opaque rest's share of a transmitter (DESIGN.md §11), else 1
 } MetallicRoughness;
 
 BP_FN MetallicRoughness metallic_roughness_from_material(BP_GLOBAL const Material* m) {
@@ -37,7 +37,7 @@ BP_FN MetallicRoughness metallic_roughness_from_material(BP_GLOBAL const Materia
   mr.density_alpha = mr.alpha;
   mr.density_base_max = bp_max3(mr.base_color);
   mr.density_metallic = m->metallic;
-  mr.opaque = (m->flags & BP_MATERIAL_THIN_TRANSMITTER) ? 1.0f - m->transmission : 1.0f;
+  mr.opaque = (m->flags & (BP_MATERIAL_THIN_TRANSMITTER | BP_MATERIAL_REFRACTOR)) ? 1.0f - m->transmission : 1.0f;
   return mr;
 }
 

@@ -7,6 +7,7 @@
 #define BP_MATERIAL_DOUBLE_SIDED 1u
 #define BP_MATERIAL_GGX 2u  // glTF metallic-roughness (kernels/shared/metallic_roughness.h), not Modified Phong
 #define BP_MATERIAL_THIN_TRANSMITTER 4u  // KHR_materials_transmission, thin-walled (kernels/shared/thin_glass.h)
+#define BP_MATERIAL_REFRACTOR 8u  // KHR_materials_transmission with a volume: refracts (kernels/shared/dielectric.h)
 
 // A material (DESIGN.md §6): Modified Phong, f = kd/pi + ks (n+2)/(2 pi) cos^n(alpha) (extras.phong and
 // Lambert), or with BP_MATERIAL_GGX glTF 2.0's metallic-roughness BRDF (Appendix B: Lambert + GGX,
@@ -29,8 +30,10 @@ typedef struct {
   // (Phong's kd and ks at load, gltf_loader.cpp's read_transmission; GGX's f, metallic_roughness.h).
   float transmission_tint[3];  // baseColor x transmission: the pane's straight-through filter before Fresnel
   float transmission;          // the pane's share T of the surface (its mirror reflects F T)
-  float ior;                   // of the pane's Fresnel F0 (KHR_materials_ior)
-  float pad_transmission[3];
+  float ior;                   // of the pane's Fresnel F0 (KHR_materials_ior); a refractor's medium's index
+  // BP_MATERIAL_REFRACTOR (KHR_materials_volume, thickness > 0): the share `transmission` refracts into
+  // a medium that attenuates by exp(-attenuation d) over d metres (dielectric.h); the rest as above.
+  float attenuation[3];        // m^-1: -ln(attenuationColor) / attenuationDistance
 } Material;
 
 // What shading needs of a triangle besides its geometry (the BVH owns the geometry).

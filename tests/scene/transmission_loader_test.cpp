@@ -1,12 +1,14 @@
 // KHR_materials_transmission with KHR_materials_ior and KHR_materials_volume (gltf_loader.cpp,
-// read_transmission): a thin-walled pane with the opaque rest scaled, a volume rendered thin with a
-// warning, every part the pane cannot honour named, and bad values refused naming the material.
+// read_transmission): a thin-walled pane with the opaque rest scaled, a volume (thickness > 0) as a
+// refractor with its attenuation, every part the pane cannot honour named, and bad values refused
+// naming the material.
 #include "scene/gltf_loader.h"
 #include "scene/gltf_test_util.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <fstream>
 #include <sstream>
 
@@ -60,14 +62,24 @@ TEST(GltfTransmission, AThinPaneWithItsIorAndTheOpaqueRestScaled) {
   EXPECT_FALSE(has_warning(s, "\"glass\""));  // smooth, thin, untextured: nothing dropped
 }
 
-TEST(GltfTransmission, AVolumeIsRenderedThinWithAWarningAndThicknessZeroIsThin) {
+TEST(GltfTransmission, AVolumeRefractsWithItsAttenuationAndThicknessZeroIsThin) {
   const Scene s = load_with_materials(json::array(
-      {glass(1.0, {{"KHR_materials_volume", {{"thicknessFactor", 0.02}, {"attenuationDistance", 0.5}}}}),
-       [] { json g = glass(1.0, {{"KHR_materials_volume", {{"thicknessFactor", 0.0}}}}); g["name"] = "thin by zero"; return g; }()}));
-  EXPECT_FLOAT_EQ(s.materials[1].transmission, 1.0f);
-  EXPECT_TRUE(has_warning(s, "material 0 \"glass\": KHR_materials_volume")) << s.warnings.size();
-  EXPECT_FALSE(has_warning(s, "\"thin by zero\""));
+      {glass(1.0, {{"KHR_materials_volume",
+                    {{"thicknessFactor", 0.02}, {"attenuationDistance", 0.5}, {"attenuationColor", {0.5, 1.0, 0.0}}}}}),
+       [] { json g = glass(1.0, {{"KHR_materials_volume", {{"thicknessFactor", 0.0}}}}); g["name"] = "thin by zero"; return g; }(),
+       [] { json g = glass(1.0, {{"KHR_materials_volume", {{"thicknessFactor", 1.0}}}}); g["name"] = "clear"; return g; }()}));
+  const SceneMaterial& volume = s.materials[1];
+  EXPECT_TRUE(volume.volume);
+  EXPECT_FLOAT_EQ(volume.transmission, 1.0f);
+  // -ln(colour) / distance: half the red left after 0.5 m, all the green, none of the blue
+  EXPECT_NEAR(volume.attenuation.x, std::log(2.0) / 0.5, 1e-5);
+  EXPECT_EQ(volume.attenuation.y, 0.0f);
+  EXPECT_GT(volume.attenuation.z, 1e20f);
+  EXPECT_FALSE(has_warning(s, "KHR_materials_volume")) << s.warnings.front();
+  EXPECT_FALSE(s.materials[2].volume);  // thickness 0: thin-walled, as the specification says
   EXPECT_FLOAT_EQ(s.materials[2].transmission, 1.0f);
+  EXPECT_TRUE(s.materials[3].volume);  // no attenuationDistance: a clear medium
+  EXPECT_EQ(s.materials[3].attenuation, glm::vec3(0.0f));
 }
 
 TEST(GltfTransmission, WhatThePaneCannotHonourIsNamed) {
@@ -99,6 +111,10 @@ TEST(GltfTransmission, BadValuesFailNamingTheMaterial) {
       {glass(1.0, {{"KHR_materials_ior", {{"ior", 0.5}}}}), "material 0 \"glass\" KHR_materials_ior.ior"},
       {glass(1.0, {{"KHR_materials_ior", {{"ior", "high"}}}}), "material 0 \"glass\" KHR_materials_ior.ior is not a number"},
       {glass(1.0, {{"KHR_materials_volume", {{"thicknessFactor", -1.0}}}}), "KHR_materials_volume.thicknessFactor"},
+      {glass(1.0, {{"KHR_materials_volume", {{"thicknessFactor", 1.0}, {"attenuationDistance", 0.0}}}}),
+       "material 0 \"glass\" KHR_materials_volume.attenuationDistance"},
+      {glass(1.0, {{"KHR_materials_volume", {{"thicknessFactor", 1.0}, {"attenuationColor", {1.0, 2.0, 0.5}}}}}),
+       "material 0 \"glass\" KHR_materials_volume.attenuationColor"},
   };
   for (const auto& [material, message] : cases) {
     try {
