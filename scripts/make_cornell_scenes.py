@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""Writes scenes/cornell-box.gltf, scenes/cornell-glossy.gltf, scenes/cornell-ggx.gltf and
-scenes/cornell-normal-map.gltf (python3 stdlib only).
+"""Writes scenes/cornell-box.gltf, scenes/cornell-glossy.gltf, scenes/cornell-ggx.gltf,
+scenes/cornell-normal-map.gltf and scenes/cornell-glass.gltf (python3 stdlib only).
 
 Geometry: the published Cornell Box data (/work/shared/data/cornell-box.md), mm -> m, y up.
 Every quad is checked to face the way it must: walls into the box, block faces out of the
@@ -106,6 +106,12 @@ GGX_MATERIALS = {
 GGX_KEYS = {"floor": "glossy white", "back": "glossy white", "white": "white", "block": "gold",
             "short block": "red plastic",
             "red": "red", "green": "green", "light": "light"}
+
+# The Lambert box with a solid glass egg (KHR_materials_transmission with KHR_materials_volume: it
+# refracts, DESIGN.md section 11): clear, ior 1.5, faintly green, 80 % of red left after 0.2 m.
+GLASS_MATERIALS = dict(BOX_MATERIALS)
+GLASS_MATERIALS["glass"] = {"pbr": pbr((1.0, 1.0, 1.0), 0.0, 0.0),
+                            "volume": {"ior": 1.5, "thickness": 0.1, "colour": (0.8, 0.95, 0.9), "distance": 0.2}}
 
 # The plain box with glTF materials (Lambert: metallic 0, specularFactor 0) and a back wall of bumps: a
 # normalTexture (an egg-crate height field, written below as a PNG) repeated 4 x 4 times over the wall.
@@ -248,6 +254,16 @@ def gltf(materials, keys, extra_meshes):
                     doc["extensionsUsed"].append("KHR_materials_specular")
             if "normal map" in m:
                 add_normal_texture(doc, mat)
+            if "volume" in m:
+                v = m["volume"]
+                mat.setdefault("extensions", {}).update({
+                    "KHR_materials_transmission": {"transmissionFactor": 1.0},
+                    "KHR_materials_ior": {"ior": v["ior"]},
+                    "KHR_materials_volume": {"thicknessFactor": v["thickness"], "attenuationColor": list(v["colour"]),
+                                             "attenuationDistance": v["distance"]}})
+                for e in ("KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_volume"):
+                    if e not in doc["extensionsUsed"]:
+                        doc["extensionsUsed"].append(e)
             doc["materials"].append(mat)
             continue
         ph = m["phong"]
@@ -335,6 +351,7 @@ def main():
     write(gltf(GLOSSY_MATERIALS, GLOSSY_KEYS, {"egg": egg_triangles()}), os.path.join(out, "cornell-glossy.gltf"))
     write(gltf(GGX_MATERIALS, GGX_KEYS, {"egg": egg_triangles()}), os.path.join(out, "cornell-ggx.gltf"))
     write(gltf(NORMAL_MAP_MATERIALS, NORMAL_MAP_KEYS, {}), os.path.join(out, "cornell-normal-map.gltf"))
+    write(gltf(GLASS_MATERIALS, BOX_KEYS, {"glass": egg_triangles()}), os.path.join(out, "cornell-glass.gltf"))
 
 
 if __name__ == "__main__":

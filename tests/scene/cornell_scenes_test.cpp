@@ -163,5 +163,22 @@ TEST(CornellScene, NormalMapVariantHasABumpyBackWall) {
   EXPECT_EQ(walls, 2);
 }
 
+// The glass variant: the Lambert box with a solid glass egg, read as a refractor with its medium.
+TEST(CornellScene, GlassVariantHasASolidGlassEgg) {
+  const Scene s = load_gltf(scene_file("cornell-glass.gltf"));
+  expect_cornell_frame(s);
+  const SceneMaterial* glass = find_material(s, "glass");
+  ASSERT_NE(glass, nullptr);
+  EXPECT_TRUE(glass->volume);
+  EXPECT_FLOAT_EQ(glass->transmission, 1.0f);
+  EXPECT_FLOAT_EQ(glass->ior, 1.5f);
+  EXPECT_NEAR(glass->attenuation.x, -std::log(0.8f) / 0.2f, 1e-4f);  // 80 % of red left after 0.2 m
+  EXPECT_TRUE(s.has_transmission());
+  std::size_t egg = 0;
+  for (const auto& t : s.triangles) egg += &s.materials[t.material] == glass;
+  EXPECT_EQ(s.triangles.size(), 32u + egg);
+  EXPECT_GE(egg, 1000u);
+}
+
 }  // namespace
 }  // namespace bp
