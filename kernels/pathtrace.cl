@@ -145,6 +145,9 @@ static void add_environment(const SceneRefs* scene, const PathTraceParams* param
   }
 }
 
+#define BP_DELTA_RUN_BEFORE_ROULETTE 64u
+#define BP_DELTA_ROULETTE_SURVIVAL 0.9f
+
 // Radiance of one path (one pixel sample). Counts the rays it traces.
 static PathRadiance trace_path(const SceneRefs* scene, const PathTraceParams* params, float3 origin, float3 dir,
                                Rng* rng, bp_u32* rays) {
@@ -161,6 +164,7 @@ static PathRadiance trace_path(const SceneRefs* scene, const PathTraceParams* pa
   int last_delta = 0;      // 1: dir was sampled by a delta vertex (a mirror, a refraction): p_L 0
   float3 medium = make_float3(0.0f, 0.0f, 0.0f);  // attenuation (m^-1) of the refractor the ray is inside
   float3 vertex = origin;  // where the segment starts, before the offset of origin
+  bp_u32 delta_run = 0u;   // delta vertices in a row just before this one
   for (bp_u32 depth = 0; depth < params->max_depth; ++depth) {
     Hit hit;
     *rays += 1u;
@@ -199,6 +203,13 @@ static PathRadiance trace_path(const SceneRefs* scene, const PathTraceParams* pa
       // A delta vertex (DESIGN.md §11): a pane's mirror, or a refractor's refraction or reflection;
       // PT's alone. beta 0 (w_RB = 0 from here on), no light sample, and the vertex after it sees
       // emitters by this direction alone: p_L 0 and any positive s p_b in the last-segment split.
+      // Past BP_DELTA_RUN_BEFORE_ROULETTE delta vertices in a row (a ray trapped by total internal
+      // reflection, as in a glass cube lit from inside), Russian roulette: unbiased, and no path
+      // runs to --max-depth.
+      if (++delta_run > BP_DELTA_RUN_BEFORE_ROULETTE) {
+        if (rng_uniform(rng) >= BP_DELTA_ROULETTE_SURVIVAL) break;
+        throughput *= 1.0f / BP_DELTA_ROULETTE_SURVIVAL;
+      }
       if (params->weight_mode == BP_WEIGHTS_PAPER) path_pdf_step(&pdf, 1.0f, BP_FLOAT_MAX);  // P* infinite: w_PT 1
       if (params->weight_mode == BP_WEIGHTS_PRODUCT) path_pdf_multiply_beta(&pdf, 0.0f);
       last_prefix_beta = 0.0f;
@@ -210,6 +221,7 @@ static PathRadiance trace_path(const SceneRefs* scene, const PathTraceParams* pa
       continue;
     }
     if (!surface.reflects && !(scene->materials[surface.material].flags & BP_MATERIAL_DOUBLE_SIDED)) break;
+    delta_run = 0u;
     Bsdf bsdf = pt_bsdf(scene, &surface, &hit);
     float3 wo = -dir;
 

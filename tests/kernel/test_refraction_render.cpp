@@ -79,6 +79,27 @@ TEST(RefractionRender, FromInsideAClearGlassCubeTheSkyIsBrighterByTheSquareOfThe
       for (int c = 0; c < 3; ++c) ASSERT_NEAR(img.pixel(x, y)[c], 1.5f * 2.25f, 2e-3f) << "pixel " << x << "," << y;
 }
 
+// Inside the cube, looking along a diagonal: every face meets the ray at 54.7 degrees, past the
+// critical angle (41.8), so the ray is reflected totally forever. After 64 delta vertices in a row
+// Russian roulette ends it (survival 0.9: about 10 more on average), rather than --max-depth's
+// 65536 bounces; it carries nothing, since nothing inside the cube emits.
+TEST(RefractionRender, APathTrappedByTotalInternalReflectionEndsByRoulette) {
+  Scene scene;
+  scene.materials = {glass(glm::vec3(1.0f), glm::vec3(0.0f))};
+  add_cuboid(scene, glm::vec3(-0.5f), glm::vec3(0.5f), 0);
+  scene.environment = glm::vec3(1.0f);
+  scene.camera.position = glm::vec3(0.0f);
+  scene.camera.forward = glm::normalize(glm::vec3(1.0f));
+  scene.camera.up = glm::normalize(glm::cross(glm::cross(scene.camera.forward, glm::vec3(0, 1, 0)), scene.camera.forward));
+  scene.camera.yfov = 0.05f;
+  const RenderRun run = render_pt(scene, 8, 8, 16, 7, 65536, false);
+  const double rays_per_path = double(run.outcome.rays) / (8.0 * 8.0 * 16.0);
+  EXPECT_GT(rays_per_path, 64.0);
+  EXPECT_LT(rays_per_path, 100.0);
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 8; ++x) ASSERT_EQ(run.image.pixel(x, y)[0], 0.0f);
+}
+
 // Seen straight down through a 0.1 m slab, tinted and absorbing, above a black emitter: the light
 // crosses two interfaces (1 - F0 each, tinted each time) and the medium (a = exp(-sigma d)), and
 // bounces between the faces (F0^2 a^2 per round trip): (1 - F0)^2 tint^2 a / (1 - F0^2 a^2) of Le.
