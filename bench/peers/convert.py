@@ -5,21 +5,28 @@ scene that bench/peers/cycles_peer.py (Blender Cycles 5, bpy) and bench/peers/lu
 
 Standard library only (the test suite runs it with Debian's python3; the peers' venv imports it).
 The mapping follows bundlepath's loader (host/scene/gltf_loader.cpp, README "Scenes and the glTF
-mapping"), as far as a Lambert peer can follow it:
+mapping"):
 
 * triangles of the default scene (`scene`, else scene 0, else every root node), node transforms
   (matrix or TRS) applied, one copy per node that instances a mesh; TRIANGLES, TRIANGLE_STRIP and
   TRIANGLE_FAN; a mirroring transform swaps two corners so the front face stays front;
   zero-area triangles dropped; NORMAL carried by the inverse transpose (shading normals);
-* materials: index 0 is the default (kd 0.8 grey), file material i is at i + 1; `extras.phong`
-  wins, else glTF's metallic-roughness model, described as the loader reads it (`ggx`, base colour,
-  metallic, roughness, dielectric f0 from KHR_materials_ior and KHR_materials_specular, specular
-  weight; metallic 0 with specular 0 is Lambert kd = baseColor, `ggx` false). For the peers, a
-  Lambert approximation of it as before: kd = baseColor (1 - metallic), ks = metallic baseColor +
-  (1 - metallic) 0.04 specularFactor specularColorFactor; kd and ks scaled down together where
-  max(kd + ks) > 1. The peers render kd as a Lambert BSDF (a material with ks > 0 is reported, not
-  rendered glossy);
-  a baseColorTexture (PNG/JPEG, sRGB) multiplies kd and is handed to the peers with its UVs;
+* materials: index 0 is the default (kd 0.8 grey), file material i is at i + 1, each in one of three
+  models, as the loader reads it (`model`):
+  - "phong": `extras.phong` with a lobe (max ks > 0): Modified Phong, kd Lambert + ks (n + 2)/(2 pi)
+    cos^n of the mirror angle, kd and ks scaled down together where max(kd + ks) > 1 (the loader's
+    energy cap); its textures are ignored, as by the loader;
+  - "lambert": `extras.phong` without a lobe, or glTF metallic 0 with KHR_materials_specular's
+    specular 0 (no Fresnel layer at all): kd = baseColor (times the base-colour texture);
+  - "ggx": glTF's metallic-roughness BRDF (`ggx` true; kernels/shared/metallic_roughness.h): base colour
+    (factor, and its texture: `texture` with `factor` = baseColorFactor), metallic, roughness
+    (perceptual; alpha = roughness^2), the metallicRoughnessTexture (`mr_texture`: G times roughness,
+    B times metallic, linear), ior (KHR_materials_ior, 1.5), specular weight and colour
+    (KHR_materials_specular), dielectric f0 = min(((ior - 1)/(ior + 1))^2 specularColor, 1) (ior 0:
+    f0 = 1), its Fresnel (f0 and f90 = 1) times the specular weight; kd = ks = 0, as the loader has them;
+  textures are PNG/JPEG handed to the peers with one texcoord set per mesh (the base colour's, else the
+  metallic-roughness texture's); KHR_texture_transform, emissive textures, specular textures and
+  KHR_materials_transmission are reported, not carried;
 * emission Le = emissiveFactor * KHR_materials_emissive_strength (W sr^-1 m^-2), from the front
   face, from both faces for `doubleSided` materials;
 * KHR_lights_punctual: point and spot lights at the node's origin, pointing along its -z,
@@ -29,8 +36,9 @@ mapping"), as far as a Lambert peer can follow it:
   width / height), its position, forward (-z) and up (+y) in world space.
 
 `python3 bench/peers/convert.py describe SCENE.gltf OUT.json` writes the peer-neutral description
-(camera, per material: triangles, area, bounds, kd, emission; emitters with their power; lights
-with their watts), which tests/e2e/test_peers_convert.cpp compares with bundlepath's own loader.
+(camera, per material: triangles, area, bounds, model, kd, ks, the metallic-roughness parameters of
+a "ggx" one and the shininess of a "phong" one, emission; emitters with their power; lights with
+their watts), which tests/e2e/test_peers_convert.cpp compares with bundlepath's own loader.
 """
 import base64
 import json
@@ -214,57 +222,82 @@ def phong_extras(mat):
     return extras.get("phong") if isinstance(extras, dict) else None
 
 
+def texture_ref(info, name, what, warnings):
+    """A glTF textureInfo as the peers read it: index and texcoord set (KHR_texture_transform dropped)."""
+    if info is None:
+        return None
+    if "KHR_texture_transform" in info.get("extensions", {}):
+        warnings.append("%s: KHR_texture_transform of its %s ignored by the peers" % (name, what))
+    return {"texture": info["index"], "texcoord": info.get("texCoord", 0)}
+
+
 def read_material(mat, index, warnings):
+    """One glTF material as the loader reads it (host/scene/gltf_loader.cpp, read_materials), in one of
+    three models: "phong" (extras.phong with a lobe: kd, ks, shininess), "lambert" (kd: extras.phong
+    without a lobe, or metallic 0 with specular 0), "ggx" (glTF's metallic-roughness BRDF)."""
     name = mat.get("name") or "material %d" % index
-    out = {"name": name, "double_sided": bool(mat.get("doubleSided", False)), "texture": None}
+    out = {"name": name, "double_sided": bool(mat.get("doubleSided", False)), "texture": None,
+           "mr_texture": None, "textured": False, "ggx": False, "kd": [0.0] * 3, "ks": [0.0] * 3, "shininess": 1.0}
     ext = mat.get("extensions", {})
     phong = phong_extras(mat)
-    out["ggx"] = False
+    pbr = mat.get("pbrMetallicRoughness", {})
     if phong is not None:
         out["kd"] = [float(v) for v in phong.get("kd", [0.0, 0.0, 0.0])]
         out["ks"] = [float(v) for v in phong.get("ks", [0.0, 0.0, 0.0])]
         out["shininess"] = float(phong.get("shininess", 1.0))
+        peak = max(kd + ks for kd, ks in zip(out["kd"], out["ks"]))
+        if peak > 1.0:  # the loader's energy cap (DESIGN.md §6)
+            out["kd"] = [v / peak for v in out["kd"]]
+            out["ks"] = [v / peak for v in out["ks"]]
+        out["model"] = "phong" if max(out["ks"]) > 0.0 else "lambert"
+        if "baseColorTexture" in pbr or "metallicRoughnessTexture" in pbr or "emissiveTexture" in mat:
+            warnings.append("%s: extras.phong wins; its textures are ignored (as by the loader)" % name)
     else:
-        pbr = mat.get("pbrMetallicRoughness", {})
         base = [float(v) for v in pbr.get("baseColorFactor", [1.0, 1.0, 1.0, 1.0])[:3]]
         metallic = float(pbr.get("metallicFactor", 1.0))
         roughness = float(pbr.get("roughnessFactor", 1.0))
         spec = ext.get("KHR_materials_specular", {})
         sf = float(spec.get("specularFactor", 1.0))
         scf = [float(v) for v in spec.get("specularColorFactor", [1.0, 1.0, 1.0])]
-        f0 = [0.04 * sf * c for c in scf]
-        # the loader's model (host/scene/gltf_loader.cpp, read_metallic_roughness)
+        # KHR_materials_ior: 0 means f0 = 1; dielectric f0 = min(f0(ior) specularColor, 1), its
+        # Fresnel (f0 and f90 = 1) times specular (host/scene/gltf_loader.cpp, read_metallic_roughness)
         ior = float(ext.get("KHR_materials_ior", {}).get("ior", 1.5))
         f0_ior = 1.0 if ior == 0.0 else ((ior - 1.0) / (ior + 1.0)) ** 2
         out["ggx"] = not (metallic == 0.0 and sf == 0.0)
+        out["model"] = "ggx" if out["ggx"] else "lambert"
         out["base_color"], out["metallic"], out["roughness"] = base, metallic, roughness
+        out["ior"], out["specular_weight"], out["specular_color"] = ior, sf, scf
         out["dielectric_f0"] = [min(f0_ior * c, 1.0) for c in scf]
-        out["specular_weight"] = sf
-        out["kd"] = [b * (1.0 - metallic) for b in base]
-        out["ks"] = [b * metallic + f * (1.0 - metallic) for b, f in zip(base, f0)]
-        a = roughness * roughness
-        out["shininess"] = 2.0 / max(a * a, 1e-12) - 2.0
-        tex = pbr.get("baseColorTexture")
-        if tex is not None:
-            out["texture"] = {"texture": tex["index"], "texcoord": tex.get("texCoord", 0),
-                              "factor": [b * (1.0 - metallic) for b in base]}
-            if "extensions" in tex:
-                warnings.append("%s: KHR_texture_transform ignored by the peers" % name)
-        if "metallicRoughnessTexture" in pbr:
-            warnings.append("%s: metallicRoughnessTexture ignored by the peers (Lambert)" % name)
+        if not out["ggx"]:
+            out["kd"] = list(base)  # no Fresnel layer at all: exactly Lambert
+        # textured as the loader counts it: f or emission read from a texture
+        out["textured"] = any(k in pbr for k in ("baseColorTexture", "metallicRoughnessTexture")) or \
+            "emissiveTexture" in mat
+        out["texture"] = texture_ref(pbr.get("baseColorTexture"), name, "baseColorTexture", warnings)
+        if out["texture"] is not None:
+            out["texture"]["factor"] = list(base)  # the colour the texel multiplies (kd or baseColor)
+        if out["ggx"]:
+            out["mr_texture"] = texture_ref(pbr.get("metallicRoughnessTexture"), name, "metallicRoughnessTexture",
+                                            warnings)
+        for key in ("specularTexture", "specularColorTexture"):
+            if key in spec:
+                warnings.append("%s: KHR_materials_specular.%s ignored (as by the loader)" % (name, key))
+        if "KHR_materials_transmission" in ext:
+            warnings.append("%s: KHR_materials_transmission ignored by the peers (rendered opaque)" % name)
     strength = float(ext.get("KHR_materials_emissive_strength", {}).get("emissiveStrength", 1.0))
     out["emission"] = [strength * float(v) for v in mat.get("emissiveFactor", [0.0, 0.0, 0.0])]
-    if "emissiveTexture" in mat:
+    if "emissiveTexture" in mat and phong is None:
         warnings.append("%s: emissiveTexture ignored by the peers" % name)
-    peak = max(kd + ks for kd, ks in zip(out["kd"], out["ks"]))
-    if peak > 1.0:
-        out["kd"] = [v / peak for v in out["kd"]]
-        out["ks"] = [v / peak for v in out["ks"]]
-        if out["texture"]:
-            out["texture"]["factor"] = [v / peak for v in out["texture"]["factor"]]
-    if max(out["ks"]) > 0.0:
-        warnings.append("%s: ks %s rendered as Lambert kd alone by the peers" % (name, out["ks"]))
     return out
+
+
+def phong_ggx_alpha(shininess):
+    """The GGX alpha the peers draw a Modified Phong lobe of exponent n with (approximate): the Phong lobe
+    cos^n of the mirror angle is close to the Blinn lobe cos^4n of the half-angle, and that to GGX's
+    alpha = sqrt(2 / (4n + 2)) (Walter et al. 2007's Blinn-Beckmann correspondence); the same mapping
+    as bench/make_rooms.cpp --ggx. Half-widths at half maximum, at normal incidence: GGX's is 0.77
+    times Phong's (sqrt(2 / (n + 2)) would make it 1.5 times)."""
+    return math.sqrt(2.0 / (4.0 * max(shininess, 0.0) + 2.0))
 
 
 def scene_roots(gltf):
@@ -290,8 +323,9 @@ def load(path):
     gltf, buffers, folder = read_file(path)
     reader = Reader(gltf, buffers)
     warnings = []
-    materials = [{"name": "default", "kd": [0.8, 0.8, 0.8], "ks": [0.0, 0.0, 0.0], "shininess": 1.0, "ggx": False,
-                  "emission": [0.0, 0.0, 0.0], "double_sided": False, "texture": None}]
+    materials = [{"name": "default", "model": "lambert", "kd": [0.8, 0.8, 0.8], "ks": [0.0, 0.0, 0.0],
+                  "shininess": 1.0, "ggx": False, "emission": [0.0, 0.0, 0.0], "double_sided": False,
+                  "texture": None, "mr_texture": None}]
     for i, m in enumerate(gltf.get("materials", [])):
         materials.append(read_material(m, i, warnings))
     meshes, lights, camera = [], [], None
@@ -331,9 +365,14 @@ def load(path):
                         n = math.sqrt(dot(v, v))
                         normals.append([x / n for x in v] if n > 0.0 else [0.0, 0.0, 0.0])
                 material = prim.get("material", -1) + 1
-                tex = materials[material]["texture"]
+                mat = materials[material]
+                # one texcoord set per mesh: the base colour's, else the metallic-roughness texture's
+                tex = mat["texture"] or mat["mr_texture"]
                 uvs = None
                 if tex is not None:
+                    if mat["texture"] and mat["mr_texture"] and mat["mr_texture"]["texcoord"] != tex["texcoord"]:
+                        warnings.append("%s: metallicRoughnessTexture read through TEXCOORD_%d by the peers"
+                                        % (mat["name"], tex["texcoord"]))
                     key = "TEXCOORD_%d" % tex["texcoord"]
                     if key in attrs:
                         uv, _ = reader.accessor(attrs[key])
@@ -392,9 +431,9 @@ def load(path):
         raise ConvertError(path + ": no perspective camera (the peers need the file's view)")
     textures = {}
     for m in materials:
-        t = m["texture"]
-        if t is not None and t["texture"] not in textures:
-            textures[t["texture"]] = read_texture(gltf, reader, folder, t["texture"])
+        for t in (m["texture"], m["mr_texture"]):
+            if t is not None and t["texture"] not in textures:
+                textures[t["texture"]] = read_texture(gltf, reader, folder, t["texture"])
     return {"source": os.path.abspath(path), "camera": camera, "materials": materials, "meshes": meshes,
             "lights": lights, "textures": textures, "warnings": warnings}
 
@@ -431,11 +470,14 @@ def write_texture(scene, index, folder):
 
 def describe(scene):
     """The peer-neutral description: what every peer must render, in numbers a test can check."""
-    mats = [dict({"name": m["name"], "kd": m["kd"], "ks": m["ks"], "emission": m["emission"],
-                  "double_sided": m["double_sided"], "textured": m["texture"] is not None, "ggx": m["ggx"],
+    mats = [dict({"name": m["name"], "model": m["model"], "kd": m["kd"], "ks": m["ks"], "emission": m["emission"],
+                  "double_sided": m["double_sided"], "ggx": m["ggx"],
+                  "textured": m.get("textured", False),
                   "triangles": 0, "area": 0.0, "vector_area": [0.0, 0.0, 0.0], "bounds": None},
-                 **({k: m[k] for k in ("base_color", "metallic", "roughness", "dielectric_f0", "specular_weight")}
-                    if m["ggx"] else {}))
+                 **({k: m[k] for k in ("base_color", "metallic", "roughness", "ior", "specular_weight",
+                                       "specular_color", "dielectric_f0")} if m["ggx"] else {}),
+                 **({"metallic_roughness_texture": m["mr_texture"] is not None} if m["ggx"] else {}),
+                 **({"shininess": m["shininess"]} if m["model"] == "phong" else {}))
             for m in scene["materials"]]
     lo = [math.inf] * 3
     hi = [-math.inf] * 3

@@ -12,11 +12,42 @@ Settings, those a Blender user renders finals with: CPU, light tree on, no adapt
 denoiser, no clamping, no light threshold, no glossy filter, 1024 bounces of every kind (Russian
 roulette stays), a 1-pixel box filter, black world, view transform Standard; with --guiding, path
 guiding on surfaces (Cycles' defaults for its training). The scene is built from convert.load():
-Diffuse BSDFs of kd (times the base-colour texture, sRGB, if any), emission Le from the front face
-only unless the material is double-sided (Geometry.Backfacing masks the back; emission_sampling
-FRONT or FRONT_BACK), point and spot lights
-of 4 pi I watts with radius 0, a sun of the file's irradiance with angle 0, the file's camera
-(vertical FOV, sensor fit vertical).
+emission Le from the front face only unless the material is double-sided (Geometry.Backfacing masks
+the back; emission_sampling FRONT or FRONT_BACK), point and spot lights of 4 pi I watts with radius 0,
+a sun of the file's irradiance with angle 0, the file's camera (vertical FOV, sensor fit vertical).
+Materials, by convert.py's model:
+
+* "lambert": a Diffuse BSDF (roughness 0: Lambert) of kd, times the base-colour texture (sRGB).
+* "ggx" (glTF's metallic-roughness BRDF): a Principled BSDF, distribution GGX (single scattering, not
+  Multiscatter GGX), as Blender's own glTF importer maps the material (io_scene_gltf2, blender/imp/
+  pbrMetallicRoughness.py): Base Color = baseColorFactor times the base-colour texture, Metallic,
+  Roughness (the same perceptual roughness: Cycles' alpha is its square, as glTF's), the
+  metallicRoughnessTexture through Separate Color (G times roughness, B times metallic; Non-Color),
+  IOR = KHR_materials_ior's, Specular IOR Level = 0.5 specularFactor, Specular Tint =
+  specularColorFactor; coat, sheen, transmission, subsurface, thin film, diffuse roughness 0.
+  What agrees with glTF (Cycles 5.0, svm/closure.h, closure/bsdf_microfacet.h): GGX D and Smith
+  shadowing (height-correlated), alpha = roughness^2; the metal's Fresnel is Schlick's with f0 =
+  baseColor (F82 tint of white is plain Schlick); metallic mixes metal and dielectric linearly.
+  What differs, known:
+  - the diffuse base under the dielectric specular layer is dimmed by 1 - E(wo), the layer's
+    directional albedo (closure_layering_weight), glTF's fresnel_mix by 1 - max F(v.h) per pair of
+    directions, which dims little at grazing views while the layer reflects much: glTF's material
+    reflects more there (roughness 0.4, base 0.45, 75 degrees: 0.58 against about 0.53 with a
+    1 - E(wo) base; the same at normal incidence), so Cycles renders smooth dielectrics darker (the GGX house at 64x36: -3.7 %
+    image mean; with every roughness 0.3: -8.3 %; the Blender room, roughness 1, at 64x48: -0.5 %);
+  - the dielectric Fresnel is the exact one of the ior remapped to [f0 specularTint, 1], glTF's
+    Schlick's: equal at normal incidence and at 90 degrees, between them within 0.04 of reflectance
+    (ior 1.5: 0.089 against 0.070 at 60 degrees, 0.61 against 0.65 at 85);
+  - specularFactor s: glTF scales the whole Fresnel term (f0 and f90) by s, Blender's importer
+    mapping scales f0 alone (through the ior); equal at s = 0 and s = 1 (every scene here), not
+    between; Specular Tint also tints the metal's F82 (glTF's metal ignores specularColor);
+  - ior 0 (KHR_materials_ior: f0 = 1) is drawn as ior 1e4.
+* "phong" (extras.phong with ks > 0, Modified Phong): approximate: Diffuse BSDF of kd plus a Glossy
+  BSDF (GGX, no Fresnel) of colour ks whose alpha is convert.phong_ggx_alpha(n) = sqrt(2 / (4n + 2)).
+  GGX's half-angle lobe is not Phong's cos^n of the mirror angle: Modified Phong's lobe albedo falls
+  about as cos(theta_o) (n = 20: 1.00, 0.71, 0.27 at 0, 45, 75 degrees), GGX's stays near 1 (0.97,
+  0.95, 0.88), so the lobes reflect more at oblique views (the Phong house at 64x36: +6 % image mean,
+  both peers alike).
 """
 import argparse
 import json
@@ -51,6 +82,77 @@ def parse_args():
     return a
 
 
+def image_node(tree, scene, ref, tmp, colour_space):
+    """An Image Texture node of texture `ref` (its sampler's filter and wrap), read by the mesh's uv."""
+    tex = scene["textures"][ref["texture"]]
+    img = tree.nodes.new("ShaderNodeTexImage")
+    img.image = bpy.data.images.load(convert.write_texture(scene, ref["texture"], tmp))
+    img.image.colorspace_settings.name = colour_space
+    img.interpolation = "Closest" if tex["nearest"] else "Linear"
+    img.extension = {33071: "EXTEND", 33648: "MIRROR"}.get(tex["wrap_s"], "REPEAT")
+    uv = tree.nodes.new("ShaderNodeUVMap")
+    uv.uv_map = "uv"
+    tree.links.new(uv.outputs["UV"], img.inputs["Vector"])
+    return img
+
+
+def colour_input(tree, socket, colour, ref, scene, tmp):
+    """socket = colour, times the (sRGB) texture `ref` where there is one."""
+    if ref is None:
+        socket.default_value = (*colour, 1.0)
+        return
+    img = image_node(tree, scene, ref, tmp, "sRGB")
+    mix = tree.nodes.new("ShaderNodeMix")
+    mix.data_type = "RGBA"
+    mix.blend_type = "MULTIPLY"
+    mix.inputs["Factor"].default_value = 1.0
+    tree.links.new(img.outputs["Color"], mix.inputs[6])
+    mix.inputs[7].default_value = (*colour, 1.0)
+    tree.links.new(mix.outputs[2], socket)
+
+
+def scaled_channel(tree, separate, channel, factor, socket):
+    """socket = factor * channel of a Separate Color node."""
+    mul = tree.nodes.new("ShaderNodeMath")
+    mul.operation = "MULTIPLY"
+    tree.links.new(separate.outputs[channel], mul.inputs[0])
+    mul.inputs[1].default_value = factor
+    tree.links.new(mul.outputs["Value"], socket)
+
+
+def principled(tree, m, scene, tmp):
+    """glTF's metallic-roughness material as Blender's glTF importer maps it (module docstring)."""
+    bsdf = tree.nodes.new("ShaderNodeBsdfPrincipled")
+    bsdf.distribution = "GGX"  # single scattering, as glTF (not MULTI_GGX's energy compensation)
+    colour_input(tree, bsdf.inputs["Base Color"], m["base_color"], m["texture"], scene, tmp)
+    bsdf.inputs["Metallic"].default_value = m["metallic"]
+    bsdf.inputs["Roughness"].default_value = m["roughness"]  # Cycles squares it, as glTF does
+    if m["mr_texture"] is not None:  # G: roughness, B: metallic, linear
+        img = image_node(tree, scene, m["mr_texture"], tmp, "Non-Color")
+        sep = tree.nodes.new("ShaderNodeSeparateColor")
+        sep.mode = "RGB"
+        tree.links.new(img.outputs["Color"], sep.inputs["Color"])
+        scaled_channel(tree, sep, "Green", m["roughness"], bsdf.inputs["Roughness"])
+        scaled_channel(tree, sep, "Blue", m["metallic"], bsdf.inputs["Metallic"])
+    # KHR_materials_ior (0 means f0 = 1: a very large ior) and KHR_materials_specular as Blender's
+    # importer maps them: Specular IOR Level = 0.5 specular, Specular Tint = specularColor
+    bsdf.inputs["IOR"].default_value = m["ior"] if m["ior"] >= 1.0 else 1e4
+    bsdf.inputs["Specular IOR Level"].default_value = 0.5 * m["specular_weight"]
+    bsdf.inputs["Specular Tint"].default_value = (*m["specular_color"], 1.0)
+    for name in ("Coat Weight", "Sheen Weight", "Transmission Weight", "Subsurface Weight", "Emission Strength",
+                 "Diffuse Roughness", "Thin Film Thickness"):
+        if name in bsdf.inputs:
+            bsdf.inputs[name].default_value = 0.0
+    return bsdf.outputs["BSDF"]
+
+
+def glossy_node(tree):
+    try:
+        return tree.nodes.new("ShaderNodeBsdfGlossy")
+    except RuntimeError:  # Blender 4+: the Glossy BSDF is the former Anisotropic node
+        return tree.nodes.new("ShaderNodeBsdfAnisotropic")
+
+
 def make_material(m, index, scene, tmp):
     mat = bpy.data.materials.new("m%d_%s" % (index, m["name"]))
     mat.use_nodes = True
@@ -58,28 +160,23 @@ def make_material(m, index, scene, tmp):
     for n in list(tree.nodes):
         tree.nodes.remove(n)
     out = tree.nodes.new("ShaderNodeOutputMaterial")
-    diffuse = tree.nodes.new("ShaderNodeBsdfDiffuse")
-    diffuse.inputs["Roughness"].default_value = 0.0
-    diffuse.inputs["Color"].default_value = (*m["kd"], 1.0)
-    t = m["texture"]
-    if t is not None:
-        tex = scene["textures"][t["texture"]]
-        img = tree.nodes.new("ShaderNodeTexImage")
-        img.image = bpy.data.images.load(convert.write_texture(scene, t["texture"], tmp))
-        img.image.colorspace_settings.name = "sRGB"
-        img.interpolation = "Closest" if tex["nearest"] else "Linear"
-        img.extension = {33071: "EXTEND", 33648: "MIRROR"}.get(tex["wrap_s"], "REPEAT")
-        uv = tree.nodes.new("ShaderNodeUVMap")
-        uv.uv_map = "uv"
-        tree.links.new(uv.outputs["UV"], img.inputs["Vector"])
-        mix = tree.nodes.new("ShaderNodeMix")
-        mix.data_type = "RGBA"
-        mix.blend_type = "MULTIPLY"
-        mix.inputs["Factor"].default_value = 1.0
-        tree.links.new(img.outputs["Color"], mix.inputs[6])
-        mix.inputs[7].default_value = (*t["factor"], 1.0)
-        tree.links.new(mix.outputs[2], diffuse.inputs["Color"])
-    surface = diffuse.outputs["BSDF"]
+    if m["model"] == "ggx":
+        surface = principled(tree, m, scene, tmp)
+    else:
+        diffuse = tree.nodes.new("ShaderNodeBsdfDiffuse")
+        diffuse.inputs["Roughness"].default_value = 0.0
+        colour_input(tree, diffuse.inputs["Color"], m["texture"]["factor"] if m["texture"] else m["kd"],
+                     m["texture"], scene, tmp)
+        surface = diffuse.outputs["BSDF"]
+        if m["model"] == "phong":  # kd Lambert + ks times a GGX lobe without Fresnel (approximate)
+            glossy = glossy_node(tree)
+            glossy.distribution = "GGX"
+            glossy.inputs["Color"].default_value = (*m["ks"], 1.0)
+            glossy.inputs["Roughness"].default_value = math.sqrt(convert.phong_ggx_alpha(m["shininess"]))
+            add = tree.nodes.new("ShaderNodeAddShader")
+            tree.links.new(surface, add.inputs[0])
+            tree.links.new(glossy.outputs["BSDF"], add.inputs[1])
+            surface = add.outputs["Shader"]
     le = m["emission"]
     if max(le) > 0.0:
         peak = max(le)

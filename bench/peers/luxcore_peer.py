@@ -18,12 +18,54 @@ to be needed because LuxCore 2.11's MIS over-counts mesh lights under Russian ro
 Cornell box both agree with the reference's mean, -0.09 % and -0.06 % at 160x90, 15 s, and on the
 Lambert house, -0.04 % and +0.07 % at 128x72, 30 s); with --photongi the PhotonGI indirect cache
 (LuxCore's defaults otherwise).
-The scene: matte materials of kd (times the base-colour texture, sRGB, if any), emission Le with
-gain 1 and no normalisation (LuxCore emits from the front face only: a double-sided emitter gets a
-second, flipped copy 1e-5 of the scene's size behind it), point lights of gain 4 pi I
+The scene: materials by convert.py's model (below), emission Le with gain 1 and no normalisation
+(LuxCore emits from the front face only: a double-sided emitter gets a second, flipped copy 1e-5 of
+the scene's size behind it), point lights of gain 4 pi I
 (LuxCore's point light radiates gain / 4 pi W/sr), spot lights likewise with LuxCore's own cone
 falloff (close to glTF's, not equal), the sun as a `sharpdistant` light of the file's irradiance,
 the camera from the file (LuxCore's fieldofview spans the longer image side).
+
+Materials (LuxCore 2.11, src/slg/materials/ and materialdefs_funcs_generic.cl):
+* "lambert": matte of kd (times the base-colour texture: imagemap, gamma 2.2).
+* "ggx" (glTF's metallic-roughness BRDF): glossy2, not disney. glossy2 is kd/pi (1 - S(v.h)) under
+  a coat D G S / (4 |n.wo| |n.wi|) with S Schlick's Fresnel of f0 = ks (index 0: ks as given) and D
+  Schlick's distribution r / (pi (cos^2 r + 1 - cos^2)^2), which is GGX's D with r = alpha^2
+  (uroughness = vroughness = alpha = roughness^2); so it is glTF's fresnel_mix term for term except
+  the shadowing. The dielectric is glossy2(kd = baseColor, ks = dielectric f0), the metal
+  glossy2(kd = 0, ks = baseColor) (conductor_fresnel: Schlick's of f0 = baseColor), mixed by
+  metallic (a `mix` material, amount = metallic); KHR_materials_specular's specular s < 1 as
+  mix(matte(baseColor), glossy2, s), which is fresnel_mix of weight s exactly; the
+  metallicRoughnessTexture as an imagemap (gamma 1) split into G (roughness, squared for alpha) and B
+  (metallic) times the factors; multibounce off. glossy2 coats the front face only (its back is
+  kd alone; with `doublesided` on, the coat's samples on the back are all dropped: its pdf D / (4
+  wo.h) is negative there in SchlickBSDF_CoatingSampleF; the GGX house came out -24 % so), so a
+  double-sided glTF material gets a flipped copy of its mesh just behind, as a double-sided emitter.
+  LuxCore's disney was not chosen: its diffuse is Burley's (retro-reflective, 0.5 + 2 roughness
+  cos^2 at grazing) and not dimmed by the Fresnel term, its dielectric f0 is 0.08 specular (at most
+  0.08), and its shadowing is separable.
+  What differs from glTF, known:
+  - shadowing: glossy2's G is Schlick's separable G1 = cos / (cos (1 - k) + k) with k = alpha^2,
+    glTF's height-correlated Smith GGX: close for smooth surfaces (alpha 0.16: within 3 % at
+    cos 0.2; alpha 0.36: 4 % at cos 0.5), more shadowing for rough ones (alpha 1: G1 = cos against
+    2 cos / (1 + cos), 25 % less at cos 0.5): a rough dielectric reflects up to 3 % less (alpha 1,
+    f0 0.04, at 75 degrees);
+  - sampling, a LuxCore 2.11 bias: SchlickDistribution_SampleH draws h with density D(h) cos(theta_h)
+    (GGX's usual inversion) but reports D(h), so every glossy2 sample of a path's next direction is
+    divided by a density too large (the mixture's too, the base's samples included): paths go on
+    from rough glossy2 surfaces with too little weight (from its formulas, base 0.75, alpha 1: -4 %
+    at normal view, -10 % at 60 degrees; alpha 0.09: -1 %); direct light (Evaluate) is unaffected.
+    Compounded over the bounces of a closed room it dominates: the GGX house at 64x36 (walls and
+    ceiling at roughness 1) -10 % image mean, with every roughness 0.3 -1.8 %; the Blender room
+    (roughness 1, f0 0) -8.6 %, where matte materials give +0.7 %;
+  - the base is dimmed per channel by 1 - S, glTF's by 1 - max(F): equal for a grey f0 (every
+    material without a coloured specularColor);
+  - ior 0 (f0 = 1) works (ks 1); the specular textures are not read (nor by bundlepath).
+* "phong" (extras.phong with ks > 0, Modified Phong): approximate, as Cycles': mix(matte(kd / (1 -
+  max ks)), glossy2(kd 0, ks = ks / max ks: Fresnel 1 for a grey ks), amount max ks) = kd Lambert + ks
+  GGX lobe of alpha convert.phong_ggx_alpha(n) = sqrt(2 / (4n + 2)); GGX's half-angle lobe is not
+  Phong's cos^n of the mirror angle (its albedo stays near 1 where Modified Phong's falls about as
+  cos(theta_o): the Phong house at 64x36, +6 % image mean, as Cycles'), and a coloured ks gets
+  Schlick's rise to white at grazing.
 
 LuxCore's CPU engines never need OpenCL, and pyluxcore's bundled allocator crashes when LuxCore opens
 PoCL: OCL_ICD_VENDORS is pointed at an empty folder before pyluxcore loads.
@@ -109,6 +151,91 @@ def screen_window(width, height):
     return [-x, x, -y - pixel, y - pixel]
 
 
+def image_texture(scene, ref, tex_name, gamma, tmp):
+    """An imagemap texture `tex_name` of texture `ref` (sRGB as gamma 2.2, or linear: gamma 1)."""
+    tex = scene["textures"][ref["texture"]]
+    path = convert.write_texture(scene, ref["texture"], tmp)
+    wrap = {33071: "clamp", 33648: "repeat"}.get(tex["wrap_s"], "repeat")  # LuxCore has no mirror
+    t = "scene.textures." + tex_name
+    return [t + ".type = imagemap", '%s.file = "%s"' % (t, path), "%s.gamma = %g" % (t, gamma),
+            "%s.wrap = %s" % (t, wrap), "%s.filter = %s" % (t, "nearest" if tex["nearest"] else "linear")]
+
+
+def scale_texture(tex_name, texture1, texture2):
+    t = "scene.textures." + tex_name
+    return [t + ".type = scale", t + ".texture1 = " + texture1, t + ".texture2 = " + texture2]
+
+
+def glossy2(name, kd, ks, uroughness):
+    """LuxCore's glossy2 (module docstring): kd Lambert under a GGX coat of Schlick Fresnel f0 = ks."""
+    p = "scene.materials." + name
+    return [p + ".type = glossy2", p + ".kd = " + kd, p + ".ks = " + ks, p + ".index = 0",
+            p + ".uroughness = " + uroughness, p + ".vroughness = " + uroughness, p + ".multibounce = 0",
+            p + ".doublesided = 0"]
+
+
+def mix(name, material1, material2, amount):
+    """LuxCore's mix: (1 - amount) material1 + amount material2."""
+    p = "scene.materials." + name
+    return [p + ".type = mix", p + ".material1 = " + material1, p + ".material2 = " + material2,
+            p + ".amount = " + amount]
+
+
+def material_props(scene, m, k, name, tmp):
+    """Material `name` for convert.py's material m (index k), by its model (module docstring); the
+    parts of a mix are defined before it (LuxCore has no forward references)."""
+    lines = []
+    t = m["texture"]
+    colour = vec(m["kd"] if m["model"] != "ggx" else m["base_color"])
+    if t is not None:  # the texel times the factor (kd, or baseColorFactor)
+        lines += image_texture(scene, t, "t%d" % k, 2.2, tmp) + scale_texture("tk%d" % k, "t%d" % k, vec(t["factor"]))
+        colour = "tk%d" % k
+    if m["model"] == "lambert":
+        return lines + ["scene.materials.%s.type = matte" % name, "scene.materials.%s.kd = %s" % (name, colour)]
+    if m["model"] == "phong":
+        # kd Lambert + ks GGX lobe (F = 1: glossy2 with ks 1, kd 0), mixed with amount max(ks)
+        w = max(m["ks"])
+        lines += ["scene.materials.%s_kd.type = matte" % name,
+                  "scene.materials.%s_kd.kd = %s" % (name, vec([min(v / (1.0 - w), 1.0) if w < 1.0 else 0.0
+                                                                for v in m["kd"]]))]
+        lines += glossy2(name + "_ks", "0 0 0", vec([v / w for v in m["ks"]]),
+                         "%.9g" % convert.phong_ggx_alpha(m["shininess"]))
+        return lines + mix(name, name + "_kd", name + "_ks", "%.9g" % w)
+    # glTF's metallic-roughness: uroughness = alpha = roughness^2, metallic, from the texture if any
+    alpha, metallic = "%.9g" % (m["roughness"] ** 2), "%.9g" % m["metallic"]
+    textured_metallic = False
+    if m["mr_texture"] is not None:
+        lines += image_texture(scene, m["mr_texture"], "tm%d" % k, 1.0, tmp)
+        for channel, part in ((1, "g"), (2, "b")):
+            lines += ["scene.textures.tm%s%d.type = splitfloat3" % (part, k),
+                      "scene.textures.tm%s%d.texture = tm%d" % (part, k, k),
+                      "scene.textures.tm%s%d.channel = %d" % (part, k, channel)]
+        lines += scale_texture("tr%d" % k, "tmg%d" % k, "%.9g" % m["roughness"])
+        lines += scale_texture("ta%d" % k, "tr%d" % k, "tr%d" % k)
+        lines += scale_texture("tmm%d" % k, "tmb%d" % k, "%.9g" % m["metallic"])
+        alpha, metallic = "ta%d" % k, "tmm%d" % k
+        textured_metallic = m["metallic"] > 0.0
+    dielectric = m["metallic"] < 1.0 or textured_metallic
+    metal = m["metallic"] > 0.0
+    # the parts of a mix get suffixes; a material of one part is that part under its own name
+    d_name, m_name = (name + "_d", name + "_m") if dielectric and metal else (name, name)
+    if dielectric:
+        sf = m["specular_weight"]
+        if sf <= 0.0:  # no Fresnel layer: Lambert
+            lines += ["scene.materials.%s.type = matte" % d_name, "scene.materials.%s.kd = %s" % (d_name, colour)]
+        elif sf >= 1.0:
+            lines += glossy2(d_name, colour, vec(m["dielectric_f0"]), alpha)
+        else:  # fresnel_mix of weight s is exactly (1 - s) Lambert + s (the same of weight 1)
+            lines += ["scene.materials.%s_l.type = matte" % d_name, "scene.materials.%s_l.kd = %s" % (d_name, colour)]
+            lines += glossy2(d_name + "_g", colour, vec(m["dielectric_f0"]), alpha)
+            lines += mix(d_name, d_name + "_l", d_name + "_g", "%.9g" % sf)
+    if metal:  # conductor_fresnel: Schlick's of f0 = baseColor, no diffuse
+        lines += glossy2(m_name, "0 0 0", colour, alpha)
+    if dielectric and metal:
+        lines += mix(name, d_name, m_name, metallic)
+    return lines
+
+
 def scene_props(scene, a, tmp):
     lines = []
     c = scene["camera"]
@@ -125,20 +252,7 @@ def scene_props(scene, a, tmp):
     size = math.sqrt(sum((h - l) ** 2 for h, l in zip(hi, lo)))
     for k, m in enumerate(scene["materials"]):
         name = "m%d" % k
-        lines.append("scene.materials.%s.type = matte" % name)
-        t = m["texture"]
-        if t is not None:
-            tex = scene["textures"][t["texture"]]
-            path = convert.write_texture(scene, t["texture"], tmp)
-            wrap = {33071: "clamp", 33648: "repeat"}.get(tex["wrap_s"], "repeat")  # LuxCore has no mirror
-            lines += ["scene.textures.t%d.type = imagemap" % k, 'scene.textures.t%d.file = "%s"' % (k, path),
-                      "scene.textures.t%d.gamma = 2.2" % k, "scene.textures.t%d.wrap = %s" % (k, wrap),
-                      "scene.textures.t%d.filter = %s" % (k, "nearest" if tex["nearest"] else "linear"),
-                      "scene.textures.tk%d.type = scale" % k, "scene.textures.tk%d.texture1 = t%d" % (k, k),
-                      "scene.textures.tk%d.texture2 = %s" % (k, vec(t["factor"])),
-                      "scene.materials.%s.kd = tk%d" % (name, k)]
-        else:
-            lines.append("scene.materials.%s.kd = %s" % (name, vec(m["kd"])))
+        lines += material_props(scene, m, k, name, tmp)
         if max(m["emission"]) > 0.0:
             lines += ["scene.materials.%s.emission = %s" % (name, vec(m["emission"])),
                       "scene.materials.%s.emission.gain = 1 1 1" % name,
@@ -152,8 +266,9 @@ def scene_props(scene, a, tmp):
     for i, mesh in enumerate(scene["meshes"]):
         m = scene["materials"][mesh["material"]]
         copies = [("s%d" % i, mesh["positions"], mesh["triangles"], mesh["normals"])]
-        if max(m["emission"]) > 0.0 and m["double_sided"]:
-            # LuxCore's area lights emit from the front only: the back side is a flipped copy just behind.
+        if m["double_sided"] and (max(m["emission"]) > 0.0 or m["model"] != "lambert"):
+            # LuxCore's area lights emit from the front only, and its glossy2 coats the front only (its
+            # `doublesided` samples no coat on the back): the back side is a flipped copy just behind.
             pos = [list(p) for p in mesh["positions"]]
             shift = [[0.0, 0.0, 0.0] for _ in pos]
             for i0, i1, i2 in mesh["triangles"]:

@@ -1,7 +1,8 @@
 // The peer harness's scene conventions (bench/peers/convert.py, issue 29) against bundlepath's own
 // loader: the converter's peer-neutral description of a glTF file (camera, per material its
-// triangles, area, front-facing vector area, bounds, kd and emission, the emitters' power, the
-// punctual lights) must say what load_gltf reads from the same file. Runs the converter with the
+// triangles, area, front-facing vector area, bounds, emission and model with its parameters --
+// glTF's metallic-roughness ones, or Phong's and Lambert's kd, ks, shininess --, the emitters' power,
+// the punctual lights) must say what load_gltf reads from the same file. Runs the converter with the
 // system python3 (standard library only); renders nothing and needs neither bpy nor pyluxcore.
 #include "e2e/cli_runner.h"
 #include "scene/gltf_loader.h"
@@ -85,18 +86,25 @@ void check_against_loader(const std::string& scene_path, const std::string& dir)
       expect_near(vec(m.at("bounds").at(0)), sums[i].bounds.lo, tol, "bounds lo");
       expect_near(vec(m.at("bounds").at(1)), sums[i].bounds.hi, tol, "bounds hi");
     }
-    // glTF's metallic-roughness model as the loader reads it; Phong and Lambert by kd and ks (the
-    // peers render a Lambert approximation of the former, with a warning)
+    // The material model as the loader reads it: glTF's metallic-roughness BRDF by its parameters
+    // (the peers build Principled / glossy2 materials of them), Phong and Lambert by kd, ks, shininess.
     EXPECT_EQ(bool(m.at("ggx")), sm.ggx);
     if (sm.ggx) {
+      EXPECT_EQ(std::string(m.at("model")), "ggx");
       expect_near(vec(m.at("base_color")), sm.base_color, 1e-6f, "base colour");
       EXPECT_NEAR(double(m.at("metallic")), sm.metallic, 1e-6);
       EXPECT_NEAR(double(m.at("roughness")), sm.roughness, 1e-6);
       expect_near(vec(m.at("dielectric_f0")), sm.dielectric_f0, 1e-6f, "dielectric f0");
       EXPECT_NEAR(double(m.at("specular_weight")), sm.specular_weight, 1e-6);
+      EXPECT_EQ(bool(m.at("metallic_roughness_texture")), sm.textures.metallic_roughness != BP_NO_TEXTURE);
     } else {
+      const bool lobe = glm::max(sm.ks.x, glm::max(sm.ks.y, sm.ks.z)) > 0.0f;
+      EXPECT_EQ(std::string(m.at("model")), lobe ? "phong" : "lambert");
       expect_near(vec(m.at("kd")), sm.kd, 1e-6f, "kd");
       expect_near(vec(m.at("ks")), sm.ks, 1e-6f, "ks");
+      if (lobe) {
+        EXPECT_NEAR(double(m.at("shininess")), sm.shininess, 1e-6);
+      }
     }
     expect_near(vec(m.at("emission")), sm.emission, 1e-5f * (glm::length(sm.emission) + 1.0f), "emission");
     EXPECT_EQ(bool(m.at("double_sided")), sm.double_sided);
@@ -160,9 +168,14 @@ std::string base64(const std::vector<std::uint8_t>& bytes) {
   return out;
 }
 
+// A 2x2 RGB PNG of texels (0, 128, 255): a metallic-roughness texture (G roughness, B metallic).
+const char* kMetallicRoughnessPng =
+    "iVBORw0KGgoAAAANSUhEUgAAAAIAAAACCAIAAAD91JpzAAAAD0lEQVR4nGNgaPgPQhAKACX2Bf2gcp/LAAAAAElFTkSuQmCC";
+
 // A file that exercises what the shipped scenes do not: a node hierarchy of TRS and matrix
-// transforms, a mirroring node, a triangle strip and fan, a metallic material scaled to
-// kd + ks = 1, a double-sided emitter, a spot light and a camera under a rotated parent.
+// transforms, a mirroring node, a triangle strip and fan, metallic-roughness materials (half metal;
+// with KHR_materials_ior and KHR_materials_specular; with a metallicRoughnessTexture), a Phong one
+// scaled to kd + ks = 1, a double-sided emitter, a spot light and a camera under a rotated parent.
 std::string write_synthetic_scene(const std::string& dir) {
   std::vector<std::uint8_t> buf;
   auto put = [&](const void* p, std::size_t n) { buf.insert(buf.end(), (const std::uint8_t*)p, (const std::uint8_t*)p + n); };
@@ -174,7 +187,8 @@ std::string write_synthetic_scene(const std::string& dir) {
   put(strip, sizeof strip);
   const json gltf = {
       {"asset", {{"version", "2.0"}}},
-      {"extensionsUsed", {"KHR_materials_emissive_strength", "KHR_lights_punctual"}},
+      {"extensionsUsed", {"KHR_materials_emissive_strength", "KHR_lights_punctual", "KHR_materials_ior",
+                          "KHR_materials_specular"}},
       {"extensions", {{"KHR_lights_punctual", {{"lights", {{{"type", "spot"}, {"name", "spot"}, {"color", {1.0, 0.5, 0.25}},
                                                               {"intensity", 683.0},
                                                               {"spot", {{"innerConeAngle", 0.2}, {"outerConeAngle", 0.6}}}},
@@ -197,7 +211,17 @@ std::string write_synthetic_scene(const std::string& dir) {
          {"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", 5.0}}}}},
          {"pbrMetallicRoughness", {{"baseColorFactor", {0.2, 0.2, 0.2, 1.0}}, {"metallicFactor", 0.0}}}},
         {{"name", "metal"}, {"pbrMetallicRoughness", {{"baseColorFactor", {1.0, 0.9, 0.8, 1.0}}, {"metallicFactor", 0.5},
-                                                        {"roughnessFactor", 0.4}}}}}},
+                                                        {"roughnessFactor", 0.4}}}},
+        {{"name", "coated"},
+         {"pbrMetallicRoughness", {{"baseColorFactor", {0.3, 0.6, 0.2, 1.0}}, {"metallicFactor", 0.25}, {"roughnessFactor", 0.7}}},
+         {"extensions", {{"KHR_materials_ior", {{"ior", 1.8}}},
+                         {"KHR_materials_specular", {{"specularFactor", 0.5}, {"specularColorFactor", {1.0, 0.8, 0.6}}}}}}},
+        {{"name", "phong"}, {"extras", {{"phong", {{"kd", {0.3, 0.3, 0.2}}, {"ks", {0.8, 0.8, 0.8}}, {"shininess", 25.0}}}}}},
+        {{"name", "textured metal"},
+         {"pbrMetallicRoughness", {{"baseColorFactor", {0.9, 0.9, 0.9, 1.0}}, {"roughnessFactor", 0.6},
+                                   {"metallicRoughnessTexture", {{"index", 0}}}}}}}},
+      {"textures", {{{"source", 0}}}},
+      {"images", {{{"uri", std::string("data:image/png;base64,") + kMetallicRoughnessPng}}}},
       {"meshes",
        {{{"name", "quad"}, {"primitives", {{{"attributes", {{"POSITION", 0}}}, {"indices", 1}, {"material", 0}},
                                             {{"attributes", {{"POSITION", 0}}}, {"indices", 1}, {"material", 2}}}}},
@@ -219,11 +243,12 @@ std::string write_synthetic_scene(const std::string& dir) {
 
 TEST(PeersConvert, DescriptionMatchesTheLoaderOnTheShippedScenes) {
   const std::string dir = fresh_dir("peers-convert");
-  for (const char* name : {"cornell-box.gltf", "cornell-glossy.gltf", "blender-point-light.gltf", "blender-room.glb"})
+  for (const char* name : {"cornell-box.gltf", "cornell-glossy.gltf", "cornell-ggx.gltf", "blender-point-light.gltf",
+                           "blender-room.glb"})
     check_against_loader(kSource + "/scenes/" + name, dir);
 }
 
-TEST(PeersConvert, DescriptionMatchesTheLoaderOnTransformsLightsAndEmitters) {
+TEST(PeersConvert, DescriptionMatchesTheLoaderOnTransformsLightsEmittersAndMaterials) {
   const std::string dir = fresh_dir("peers-convert-synthetic");
   const std::string scene = write_synthetic_scene(dir);
   check_against_loader(scene, dir);
@@ -236,6 +261,47 @@ TEST(PeersConvert, DescriptionMatchesTheLoaderOnTransformsLightsAndEmitters) {
   EXPECT_NEAR(double(d.at("lights").at(0).at("watts").at(0)), 4.0 * M_PI, 1e-6);  // 683 cd of white = 1 W/sr
   EXPECT_NEAR(double(d.at("lights").at(1).at("irradiance").at(1)), 1000.0 / 683.0, 1e-9);
   EXPECT_NEAR(double(d.at("camera").at("yfov")), 0.8, 1e-12);
+
+  // The materials as the file writes them (index 0 is the default material, file material i is i + 1):
+  // the metallic-roughness parameters the peers build their GGX materials from.
+  const json& mats = d.at("materials");
+  ASSERT_EQ(mats.size(), 7u);
+  auto expect_rgb = [](const json& j, glm::vec3 v, const std::string& what) { expect_near(vec(j), v, 1e-6f, what); };
+  const json& plastic = mats.at(1);  // "lambert": metallic 0, but the default specular 1 makes it glTF's GGX
+  EXPECT_EQ(std::string(plastic.at("model")), "ggx");
+  EXPECT_NEAR(double(plastic.at("metallic")), 0.0, 1e-12);
+  EXPECT_NEAR(double(plastic.at("roughness")), 1.0, 1e-12);  // glTF's default
+  const json& metal = mats.at(3);
+  EXPECT_EQ(std::string(metal.at("model")), "ggx");
+  expect_rgb(metal.at("base_color"), {1.0f, 0.9f, 0.8f}, "metal base colour");
+  EXPECT_NEAR(double(metal.at("metallic")), 0.5, 1e-12);
+  EXPECT_NEAR(double(metal.at("roughness")), 0.4, 1e-12);
+  EXPECT_NEAR(double(metal.at("ior")), 1.5, 1e-12);  // KHR_materials_ior's default
+  expect_rgb(metal.at("dielectric_f0"), glm::vec3(0.04f), "metal's dielectric f0");
+  EXPECT_NEAR(double(metal.at("specular_weight")), 1.0, 1e-12);
+  EXPECT_FALSE(bool(metal.at("metallic_roughness_texture")));
+  const json& coated = mats.at(4);
+  EXPECT_EQ(std::string(coated.at("model")), "ggx");
+  expect_rgb(coated.at("base_color"), {0.3f, 0.6f, 0.2f}, "coated base colour");
+  EXPECT_NEAR(double(coated.at("metallic")), 0.25, 1e-12);
+  EXPECT_NEAR(double(coated.at("roughness")), 0.7, 1e-12);
+  EXPECT_NEAR(double(coated.at("ior")), 1.8, 1e-12);
+  EXPECT_NEAR(double(coated.at("specular_weight")), 0.5, 1e-12);
+  expect_rgb(coated.at("specular_color"), {1.0f, 0.8f, 0.6f}, "specular colour");
+  const float f0 = (0.8f / 2.8f) * (0.8f / 2.8f);  // ((ior - 1) / (ior + 1))^2
+  expect_rgb(coated.at("dielectric_f0"), f0 * glm::vec3(1.0f, 0.8f, 0.6f), "coated dielectric f0");
+  const json& phong = mats.at(5);
+  EXPECT_EQ(std::string(phong.at("model")), "phong");
+  EXPECT_FALSE(bool(phong.at("ggx")));
+  expect_rgb(phong.at("kd"), glm::vec3(0.3f, 0.3f, 0.2f) / 1.1f, "phong kd (kd + ks = 1.1: scaled to 1)");
+  expect_rgb(phong.at("ks"), glm::vec3(0.8f) / 1.1f, "phong ks (kd + ks = 1.1: scaled to 1)");
+  EXPECT_NEAR(double(phong.at("shininess")), 25.0, 1e-12);
+  const json& textured = mats.at(6);
+  EXPECT_EQ(std::string(textured.at("model")), "ggx");
+  EXPECT_TRUE(bool(textured.at("metallic_roughness_texture")));
+  EXPECT_TRUE(bool(textured.at("textured")));
+  EXPECT_NEAR(double(textured.at("metallic")), 1.0, 1e-12);  // glTF's default, the texture's B multiplies it
+  EXPECT_NEAR(double(textured.at("roughness")), 0.6, 1e-12);
 }
 
 TEST(PeersConvert, UnusableFileIsRefused) {
