@@ -16,7 +16,8 @@
 # bench_reference_spp SPP SIZE     -> a reference's spp at SIZE: SPP up to 128x128 pixels; larger,
 #                                     the same pixel samples as a power of 2, and at least those of
 #                                     1024 spp at 640x360 (1024 spp there, 256 at 1280x720), at most SPP
-# bench_rooms_scene TRIANGLES [SEED [lambert]] -> prints the path of a cached procedural rooms scene (.glb)
+# bench_rooms_scene TRIANGLES [SEED [VARIANT [ROOMS]]] -> prints the path of a cached procedural rooms
+#                                     scene (.glb); VARIANT lambert or ggx, ROOMS rooms per side
 # bench_render ARGS...             -> the renderer with BENCH_DEVICE applied, stderr kept in a log
 # bench_has_flag FLAG              -> true when `render --help` mentions FLAG
 # bench_budgets CAP                -> the wall-time budgets 1, 2, 4, ... up to CAP seconds, one a line
@@ -160,16 +161,23 @@ bench_reference() {
   echo "$ref.exr"
 }
 
-# bench_rooms_scene TRIANGLES [SEED [lambert]]: a procedural rooms scene (host/scene/procedural.cpp)
-# written as .glb by bench/make_rooms, cached (a pure function of the triangle count, seed and
-# materials); "lambert" writes every material pure Lambert (make_rooms --lambert).
+# bench_rooms_scene TRIANGLES [SEED [VARIANT [ROOMS]]]: a procedural rooms scene
+# (host/scene/procedural.cpp) written as .glb by bench/make_rooms, cached (a pure function of the
+# triangle count, seed, materials and rooms); VARIANT "lambert" writes every material pure Lambert
+# (make_rooms --lambert), "ggx" glTF metallic-roughness; ROOMS fixes the rooms per side (make_rooms
+# --rooms: the same house tessellated finer). ROOMS equal to the default grid, round(sqrt(N / 4000)),
+# is the same file as no ROOMS, so it keeps that name and its cached references.
 bench_rooms_scene() {
-  local n=$1 seed=${2:-1} variant=${3:-}
+  local n=$1 seed=${2:-1} variant=${3:-} rooms=${4:-}
   local dir=$BENCH_CACHE/scenes
   mkdir -p "$dir"
-  local out=$dir/rooms-$n-s$seed.glb
+  local stem=rooms-$n
   local -a make_flags=()
-  if [ -n "$variant" ]; then out=$dir/rooms-$variant-$n-s$seed.glb; make_flags=(--"$variant"); fi
+  if [ -n "$variant" ]; then stem=rooms-$variant-$n; make_flags=(--"$variant"); fi
+  if [ -n "$rooms" ] && [ "$rooms" != "$(awk -v n="$n" 'BEGIN { g = int(sqrt(n / 4000) + 0.5); print g < 1 ? 1 : g }')" ]; then
+    stem=$stem-r$rooms; make_flags+=(--rooms "$rooms")
+  fi
+  local out=$dir/$stem-s$seed.glb
   if [ ! -f "$out" ]; then
     local tool=$BENCH_BUILD_DIR/bench/make_rooms
     [ -x "$tool" ] || tool=$BENCH_BUILD_DIR/make_rooms
@@ -183,14 +191,23 @@ bench_rooms_scene() {
   echo "$out"
 }
 
+# bench_rooms_spec N[-rR] VARIANT: bench_rooms_scene for the tail of a rooms scene name.
+bench_rooms_spec() {
+  if [[ $1 =~ ^([0-9]+)-r([0-9]+)$ ]]; then bench_rooms_scene "${BASH_REMATCH[1]}" 1 "$2" "${BASH_REMATCH[2]}"
+  else bench_rooms_scene "$1" 1 "$2"
+  fi
+}
+
 # bench_scene NAME: a scene name of the study -> a file. cornell-box, cornell-glossy (scenes/),
 # rooms-N (procedural, N triangles), rooms-lambert-N (the same house, every material Lambert),
-# rooms-ggx-N (the same house in glTF metallic-roughness: make_rooms --ggx), or a path.
+# rooms-ggx-N (the same house in glTF metallic-roughness: make_rooms --ggx), each with an optional
+# -rR (R x R rooms whatever N is: rooms-lambert-1000000-r5 is rooms-lambert-100000's house at 1 M
+# triangles), or a path.
 bench_scene() {
   case $1 in
-    rooms-lambert-*) bench_rooms_scene "${1#rooms-lambert-}" 1 lambert ;;
-    rooms-ggx-*) bench_rooms_scene "${1#rooms-ggx-}" 1 ggx ;;
-    rooms-*) bench_rooms_scene "${1#rooms-}" ;;
+    rooms-lambert-*) bench_rooms_spec "${1#rooms-lambert-}" lambert ;;
+    rooms-ggx-*) bench_rooms_spec "${1#rooms-ggx-}" ggx ;;
+    rooms-*) bench_rooms_spec "${1#rooms-}" "" ;;
     *.gltf|*.glb) echo "$1" ;;
     *) echo "$bench_root/scenes/$1.gltf" ;;
   esac

@@ -6,7 +6,10 @@
 // materials, camera) before the tool reports success. The camera has no zfar (an infinite
 // projection): tinygltf always writes one, 0 when unset, which is not valid glTF (zfar > znear) and
 // makes Blender clip everything, so the written JSON is edited before it reaches the file.
-// Usage: make_rooms TRIANGLES OUT.glb|OUT.gltf [--seed N] [--lambert | --ggx]
+// Usage: make_rooms TRIANGLES OUT.glb|OUT.gltf [--seed N] [--rooms R] [--lambert | --ggx]
+//   --rooms R: R x R rooms whatever TRIANGLES is, so one house (layout, lights, camera) can be
+//   written at several triangle counts, the extra triangles from finer tessellation of the same
+//   surfaces; R equal to the default grid writes the same bytes as leaving it out.
 //   --lambert: every material pure Lambert (ks = 0, kd kept): the "Lambert house".
 //   --ggx: glTF's own metallic-roughness materials (no extras.phong): the "GGX house" (set_ggx_material).
 #include "scene/tinygltf.h"
@@ -184,11 +187,16 @@ std::string fix_camera(const std::string& written, bool binary) {
 }
 
 const char kUsage[] =
-    "usage: make_rooms TRIANGLES OUT.glb|OUT.gltf [--seed N] [--lambert | --ggx]\n"
+    "usage: make_rooms TRIANGLES OUT.glb|OUT.gltf [--seed N] [--rooms R] [--lambert | --ggx]\n"
     "  TRIANGLES  about how many triangles the rooms are tessellated to (a positive integer)\n"
     "  --seed N   the layout's seed [1]\n"
+    "  --rooms R  R x R rooms, the same house at any TRIANGLES (finer tessellation)\n"
+    "             [round(sqrt(TRIANGLES / 4000)): more triangles, more rooms]\n"
     "  --lambert  every material pure Lambert (ks = 0, kd kept)\n"
     "  --ggx      glTF metallic-roughness materials (GGX; the Phong lobes as roughness)\n";
+
+// The default grid at the largest TRIANGLES (2^32) is 1036 rooms per side.
+constexpr std::uint64_t kMaxRoomsPerSide = 1024;
 
 bool parse_count(const char* text, std::uint64_t& value) {
   const char* end = text + std::strlen(text);
@@ -206,6 +214,7 @@ int usage_error(const std::string& message) {
 int main(int argc, char** argv) {
   std::vector<std::string> positional;
   std::uint32_t seed = 1;
+  int rooms = 0;  // 0: make_rooms_scene's default for the triangle count
   bool lambert = false, ggx = false;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
@@ -222,6 +231,13 @@ int main(int argc, char** argv) {
       if (!parse_count(argv[++i], value) || value > 0xffffffffu)
         return usage_error(std::string("--seed: expected an integer in 0..4294967295, got '") + argv[i] + "'");
       seed = std::uint32_t(value);
+    } else if (arg == "--rooms") {
+      std::uint64_t value = 0;
+      if (i + 1 >= argc) return usage_error("--rooms: missing value");
+      if (!parse_count(argv[++i], value) || value == 0 || value > kMaxRoomsPerSide)
+        return usage_error(std::string("--rooms: expected an integer in 1..") + std::to_string(kMaxRoomsPerSide) +
+                           ", got '" + argv[i] + "'");
+      rooms = int(value);
     } else if (arg.size() > 1 && arg[0] == '-') {
       return usage_error("unknown option '" + arg + "'");
     } else {
@@ -238,7 +254,7 @@ int main(int argc, char** argv) {
   const bool text = out.size() >= 5 && out.compare(out.size() - 5, 5, ".gltf") == 0;
   if (!binary && !text) return usage_error("OUT must end in .glb or .gltf, got '" + out + "'");
 
-  bp::Scene scene = bp::make_rooms_scene(std::size_t(target), seed);
+  bp::Scene scene = bp::make_rooms_scene(std::size_t(target), seed, rooms);
   if (lambert)
     for (bp::SceneMaterial& m : scene.materials) m.ks = glm::vec3(0.0f);
   const tinygltf::Model model = to_gltf(scene, ggx);
@@ -274,8 +290,9 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "make_rooms: %s does not load: %s\n", out.c_str(), e.what());
     return 1;
   }
-  std::fprintf(stderr, "make_rooms: %s: %zu triangles (%zu emissive), %zu materials%s\n", out.c_str(),
-               scene.triangles.size(), scene.emissive_triangles(), scene.materials.size(),
+  const int grid = rooms > 0 ? rooms : bp::rooms_for_triangles(std::size_t(target));
+  std::fprintf(stderr, "make_rooms: %s: %zu triangles (%zu emissive), %dx%d rooms, %zu materials%s\n",
+               out.c_str(), scene.triangles.size(), scene.emissive_triangles(), grid, grid, scene.materials.size(),
                lambert ? ", all Lambert" : ggx ? ", glTF metallic-roughness (GGX)" : "");
   return 0;
 }

@@ -2,11 +2,12 @@
 """CSV rows, Markdown tables and gnuplot plots for the bench studies (Python 3 standard library only;
 plots need gnuplot, installed by bench/setup.sh).
 
-  report.py append CSV STUDY --stats S.json [--rss-kb FILE] [--status S] [KEY=VALUE ...]
+  report.py append CSV STUDY --stats S.json [--rss-kb FILE] [--status S] [--error-stats E.json] [KEY=VALUE ...]
       add one run to CSV (header written when the file is new). STUDY picks the columns:
       convergence, knobs, scaling or ratio. Every number comes from the renderer's --stats JSON
       (render_seconds, spp, iterations, and relMSE / RMSE / mean bias of the `combined` layer
-      against --reference) or from /usr/bin/time (max RSS).
+      against --reference) or from /usr/bin/time (max RSS); --error-stats: the relMSE of another
+      render's --stats (scaling: the combination beside an RB timing).
   report.py convergence CSV OUTDIR [--no-plots]   -> OUTDIR/convergence.md, convergence-<scene>.png
   report.py knobs CSV OUTDIR [--no-plots]         -> OUTDIR/knobs.md, knobs-<knob>.png
   report.py scaling CSV OUTDIR                    -> OUTDIR/scaling.md
@@ -36,12 +37,12 @@ COLUMNS = {
               "rb_seconds_per_iteration", "reference", "reference_spp"],
     "scaling": ["series", "scene", "mode", "flags", "status", "triangles", "patches", "bins", "width", "height",
                 "render_seconds", "spp", "iterations", "ms_per_sample", "ms_per_iteration", "fragments_per_iteration",
-                "kernel_build_seconds", "load_seconds", "max_rss_mib", "device_mib"],
+                "kernel_build_seconds", "load_seconds", "max_rss_mib", "device_mib", "bvh_build_seconds", "rel_mse"],
 }
 NUMERIC = {"budget_s", "render_seconds", "spp", "iterations", "rel_mse", "rmse", "mean_bias", "triangles", "patches",
            "bins", "width", "height", "reference_spp", "ms_per_sample", "ms_per_iteration", "fragments_per_iteration",
            "kernel_build_seconds", "load_seconds", "max_rss_mib", "device_mib", "ratio", "seed", "probe_seconds",
-           "pt_seconds_per_spp", "rb_seconds_per_iteration"}
+           "pt_seconds_per_spp", "rb_seconds_per_iteration", "bvh_build_seconds"}
 
 
 def fnum(x):
@@ -59,11 +60,22 @@ def read_rows(path):
 
 # ----------------------------------------------------------------------------------------- append
 
+def read_stats(path):
+    """A renderer's --stats JSON, {} when there is none or it does not parse."""
+    if not path or not os.path.exists(path):
+        return {}
+    try:
+        with open(path) as f:
+            return json.load(f)
+    except (OSError, ValueError):
+        return {}
+
+
 def cmd_append(args):
     path, study = args[0], args[1]
     cols = COLUMNS[study]
     row = {c: "" for c in cols}
-    stats_path = rss_path = None
+    stats_path = rss_path = error_stats_path = None
     status = "ok"
     rest = args[2:]
     i = 0
@@ -73,6 +85,8 @@ def cmd_append(args):
             stats_path = rest[i + 1]; i += 2
         elif a == "--rss-kb":
             rss_path = rest[i + 1]; i += 2
+        elif a == "--error-stats":
+            error_stats_path = rest[i + 1]; i += 2
         elif a == "--status":
             status = rest[i + 1]; i += 2
         else:
@@ -81,18 +95,12 @@ def cmd_append(args):
                 sys.exit(f"report.py: unknown column {key!r} for {study}")
             row[key] = value
             i += 1
-    s = {}
-    if stats_path and os.path.exists(stats_path):
-        try:
-            with open(stats_path) as f:
-                s = json.load(f)
-        except (OSError, ValueError):
-            s = {}
+    s = read_stats(stats_path)
     if not s and status == "ok":
         status = "no-stats"
     row["status"] = status
     for key in ("render_seconds", "spp", "iterations", "triangles", "patches", "bins", "width", "height",
-                "fragments_per_iteration", "kernel_build_seconds", "load_seconds", "ratio"):
+                "fragments_per_iteration", "kernel_build_seconds", "load_seconds", "bvh_build_seconds", "ratio"):
         if key in row and key in s and s[key] is not None:
             row[key] = s[key]
     for key in ("probe_seconds", "pt_seconds_per_spp", "rb_seconds_per_iteration"):  # --ratio auto's probe
@@ -103,6 +111,10 @@ def cmd_append(args):
     layer = s.get("reference", {}).get("layers", {}).get("combined")
     if layer and "rel_mse" in row:
         row["rel_mse"], row["rmse"], row["mean_bias"] = layer["rel_mse"], layer["rmse"], layer["mean_bias"]
+    if error_stats_path:
+        layer = read_stats(error_stats_path).get("reference", {}).get("layers", {}).get("combined")
+        if layer:
+            row["rel_mse"] = layer["rel_mse"]
     secs = fnum(s.get("render_seconds"))
     if "ms_per_sample" in row and secs and fnum(s.get("spp")):
         row["ms_per_sample"] = 1e3 * secs / float(s["spp"])
@@ -479,6 +491,32 @@ def cmd_ratio(args):
 
 # ----------------------------------------------------------------------------------------- scaling
 
+def house_table(series, rows):
+    """The fixed-rooms house (bench/scaling.sh): one house at several triangle counts, so RB's cost
+    per iteration and the peak memory against the first row show what the triangles alone cost
+    (the issue's bounds: at most 1.5x from 100 k to 1 M triangles, at most 1.5 GB at 1 M)."""
+    md = [f"**{series}**", "",
+          "| scene | triangles | load s | BVH build s | patches | ms / RB iteration | × first row | "
+          "peak host MiB | combined relMSE vs PT |",
+          "|---|---|---|---|---|---|---|---|---|"]
+    first = None
+    for r in rows:
+        if r["status"] != "ok":
+            md.append(f"| {r['scene']} | {r['triangles'] or '–'} | {r['status']} | | | | | | |")
+            continue
+        ms_i = fnum(r["ms_per_iteration"])
+        first = first or ms_i
+        md.append(f"| {r['scene']} | {r['triangles']} | {fmt(fnum(r['load_seconds']), '.3g')} | "
+                  f"{fmt(fnum(r.get('bvh_build_seconds')), '.3g')} | {r['patches']} | {fmt(ms_i, '.3g')} | "
+                  f"{fmt(ms_i / first if ms_i and first else None, '.2f')} | {fmt(fnum(r['max_rss_mib']), '.0f')} | "
+                  f"{fmt(fnum(r.get('rel_mse')), '.3g')} |")
+    md += ["", f"RB: `{rows[0]['flags']}`, ms per iteration as `--stats` gives it (warm-up included). "
+           "Load and BVH build: `--stats`' `load_seconds` and `bvh_build_seconds`. The relMSE column "
+           "(`scaling.sh --house-error`): `--mode combined` at its defaults against the house's own "
+           "path-traced reference (full run: 30 s, 1024 spp at 640×360).", ""]
+    return md
+
+
 def cmd_scaling(args):
     path, out = args[0], args[1]
     rows = read_rows(path)
@@ -489,9 +527,12 @@ def cmd_scaling(args):
           "device buffers live in host memory, so it includes them). Device MiB: the scene's buffers "
           "(`scene_device_bytes`) plus the ray-bundle pass's estimate of its own (`rb_device_bytes_estimate`).",
           ""]
-    has_dev = any(fnum(r["device_mib"]) for r in rows)
+    has_dev = any(fnum(r.get("device_mib")) for r in rows)
     for series in dict.fromkeys(r["series"] for r in rows):
         srows = [r for r in rows if r["series"] == series]
+        if series.startswith("house at fixed rooms"):
+            md += house_table(series, srows)
+            continue
         md.append(f"**{series}**")
         md.append("")
         md.append("| scene | mode | triangles | patches | bins | pixels | ms / PT sample | ms / RB iteration | "

@@ -128,10 +128,20 @@ Scene make_random_triangles_scene(std::size_t n, std::uint32_t seed) {
   return scene;
 }
 
-Scene make_rooms_scene(std::size_t target_triangles, std::uint32_t seed) {
+int rooms_for_triangles(std::size_t target_triangles) {
+  return std::max(1, static_cast<int>(std::lround(std::sqrt(target_triangles / 4000.0))));
+}
+
+Scene make_rooms_scene(std::size_t target_triangles, std::uint32_t seed, int rooms_per_side) {
   enum : std::uint32_t { kWall, kWallDouble, kFloor, kCeiling, kFurniture, kLight };
+  const int grid = rooms_per_side > 0 ? rooms_per_side : rooms_for_triangles(target_triangles);
+  // The default grid keeps the old name, so asking for it explicitly writes the same file.
+  const std::string rooms_tag = grid == rooms_for_triangles(target_triangles)
+                                    ? std::string()
+                                    : "," + std::to_string(grid) + "x" + std::to_string(grid) + " rooms";
   Scene scene;
-  scene.source = "procedural:rooms(" + std::to_string(target_triangles) + "," + std::to_string(seed) + ")";
+  scene.source =
+      "procedural:rooms(" + std::to_string(target_triangles) + "," + std::to_string(seed) + rooms_tag + ")";
   scene.materials.resize(6);
   scene.materials[kWall] = {"wall", glm::vec3(0.75f, 0.75f, 0.72f), glm::vec3(0.0f), 1.0f, glm::vec3(0.0f), false};
   scene.materials[kWallDouble] = {"wall_double", glm::vec3(0.75f, 0.75f, 0.72f), glm::vec3(0.0f), 1.0f,
@@ -143,7 +153,6 @@ Scene make_rooms_scene(std::size_t target_triangles, std::uint32_t seed) {
   scene.materials[kLight] = {"light", glm::vec3(0.0f), glm::vec3(0.0f), 1.0f, glm::vec3(10.0f), false};
 
   const float width = 5.0f, depth = 4.0f, height = 2.8f;  // room extent along x, z, y
-  const int grid = std::max(1, static_cast<int>(std::lround(std::sqrt(target_triangles / 4000.0))));
   const glm::vec3 x_axis(1, 0, 0), z_axis(0, 0, 1);
   Random rng(seed);
   std::vector<Quad> quads;
