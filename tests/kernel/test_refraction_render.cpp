@@ -4,14 +4,11 @@
 // (1 - F)^2 tint^2 a / (1 - F^2 a^2)); every refraction and reflection is a delta vertex, PT's alone,
 // and RB sees the glass as opaque, so the combination with a glass block agrees with the path tracer.
 #include "kernel/device_fixture.h"
-#include "kernel/region_test.h"
+#include "kernel/glass_power_test.h"
 #include "kernels/shared/dielectric.h"
-#include "stats.h"
 
 #include <gtest/gtest.h>
 #include <cmath>
-#include <cstdio>
-#include <iterator>
 
 namespace bp::test {
 namespace {
@@ -161,61 +158,10 @@ Scene box_with_a_glass_block() {
   return scene;
 }
 
-CombinedRun combined(const Scene& scene, std::uint32_t seed, bool light_sampling, bool eye_shared,
-                     std::uint64_t rounds, std::uint32_t pt_samples_per_round, std::uint32_t rb_iterations_per_round,
-                     std::uint32_t beta) {
-  CombinedSettings cs;
-  cs.weight_mode = BP_WEIGHTS_PRODUCT;
-  cs.seed = seed;
-  cs.rounds = rounds;
-  cs.pt_samples_per_round = pt_samples_per_round;
-  cs.rb_iterations_per_round = rb_iterations_per_round;
-  cs.beta_heuristic = beta;
-  cs.patch_size = 0.05f;
-  cs.light_sampling = light_sampling;
-  cs.light_rate = 0.5f;
-  cs.eye_direct_shared = eye_shared;
-  return render_combined(scene, kSize, kSize, cs);
-}
-
-// With the power to see a 2 % bias, as the thin pane's test: the image mean and its quadrants of
-// many cheap combined runs against as many path-traced ones (Welch t-tests at a Šidák-corrected
-// 0.01). RB takes most of the image at N2/N1 4 (light sampling on), PT at 1/16 (off): a refraction
-// given a share to RB, which cannot carry it, darkens the block and what is seen through it.
+// With the power to see a 2 % bias (glass_power_test.h): a refraction given a share to RB, which
+// cannot carry it, darkens the block and what is seen through it.
 TEST(RefractionRender, TheCombinationWithAGlassBlockMatchesThePathTracerWithThePowerToSeeTwoPercent) {
-  const Scene scene = box_with_a_glass_block();
-  const int runs = 24;
-  const RegionRuns reference =
-      large_region_runs(runs, 5001, [&](std::uint32_t seed) { return render_pt(scene, kSize, kSize, 64, seed).image; });
-  struct Case {
-    const char* name;
-    bool light_sampling, eye_shared;
-    std::uint64_t rounds;
-    std::uint32_t pt_samples_per_round, rb_iterations_per_round, beta;
-  };
-  const Case cases[] = {
-      {"N2/N1 4, beta clamped, light sampling, eye shared", true, true, 24, 1, 4, BP_BETA_CLAMPED},
-      {"N2/N1 1/16, beta balance", false, false, 8, 16, 1, BP_BETA_BALANCE},
-  };
-  const double alpha = sidak_alpha(0.01, int(std::size(cases)) * kLargeRegions);
-  for (const Case& c : cases) {
-    const RegionRuns tested = large_region_runs(runs, 9001, [&](std::uint32_t seed) {
-      return combined(scene, seed, c.light_sampling, c.eye_shared, c.rounds, c.pt_samples_per_round,
-                      c.rb_iterations_per_round, c.beta)
-          .combined;
-    });
-    const WelchT mean = welch_t(tested, reference, 0);
-    std::printf("[box with a glass block] %-50s mean %.5f (%+.2f %%), rel. se of the difference %.3f %%, t %+.2f\n",
-                c.name, tested.mean[0], 100.0 * (tested.mean[0] / reference.mean[0] - 1.0),
-                100.0 * mean.se / reference.mean[0], mean.t);
-    EXPECT_LT(mean.se / reference.mean[0], 0.007) << c.name << ": too noisy to see a 2 % bias";
-    for (int i = 0; i < kLargeRegions; ++i) {
-      const WelchT w = welch_t(tested, reference, i);
-      EXPECT_GT(student_t_two_sided_p(w.t, w.dof), alpha)
-          << c.name << ", " << large_region_name(i) << ": " << tested.mean[i] << " vs " << reference.mean[i] << " (t "
-          << w.t << ", " << w.dof << " dof)";
-    }
-  }
+  expect_combination_matches_pt_with_power_to_see_two_percent(box_with_a_glass_block(), "box with a glass block");
 }
 
 }  // namespace

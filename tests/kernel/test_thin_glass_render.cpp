@@ -4,14 +4,13 @@
 // factor), and the combination with a pane -- RB's bundles and eye rays through it, its light samples
 // through it, the pane's mirror PT's alone -- agrees with the path tracer.
 #include "kernel/device_fixture.h"
+#include "kernel/glass_power_test.h"
 #include "kernel/region_test.h"
 #include "kernels/shared/thin_glass.h"
 #include "stats.h"
 
 #include <gtest/gtest.h>
 #include <cmath>
-#include <cstdio>
-#include <iterator>
 
 namespace bp::test {
 namespace {
@@ -161,45 +160,10 @@ TEST(ThinGlassRender, TheCombinationThroughAPaneAgreesWithThePathTracer) {
   expect_combination_agrees_with_pt(scene, true, true, "light sampling, eye direct shared");
 }
 
-// The same box with the power to see a 2 % bias, as Combination's glossy-box test: the image mean
-// and its quadrants of many cheap combined runs against as many path-traced ones (Welch t-tests at a
-// Šidák-corrected 0.01), once the difference's standard error is under 0.7 % of the reference. RB
-// takes most of the image at N2/N1 4 (light sampling on), PT at N2/N1 1/16 (off): a pane's
-// transmittance missing on RB's side, or its mirror given to RB, moves the image by more than 2 %.
+// The same box with the power to see a 2 % bias (glass_power_test.h): a pane's transmittance
+// missing on RB's side, or its mirror given to RB, moves the image by more than 2 %.
 TEST(ThinGlassRender, TheCombinationThroughAPaneMatchesThePathTracerWithThePowerToSeeTwoPercent) {
-  const Scene scene = box_with_a_pane();
-  const int runs = 24;
-  const RegionRuns reference =
-      large_region_runs(runs, 5001, [&](std::uint32_t seed) { return render_pt(scene, kSize, kSize, 64, seed).image; });
-  struct Case {
-    const char* name;
-    bool light_sampling, eye_shared;
-    std::uint64_t rounds;
-    std::uint32_t pt_samples_per_round, rb_iterations_per_round, beta;
-  };
-  const Case cases[] = {
-      {"N2/N1 4, beta clamped, light sampling, eye shared", true, true, 24, 1, 4, BP_BETA_CLAMPED},
-      {"N2/N1 1/16, beta balance", false, false, 8, 16, 1, BP_BETA_BALANCE},
-  };
-  const double alpha = sidak_alpha(0.01, int(std::size(cases)) * kLargeRegions);
-  for (const Case& c : cases) {
-    const RegionRuns tested = large_region_runs(runs, 9001, [&](std::uint32_t seed) {
-      return combined(scene, seed, c.light_sampling, c.eye_shared, c.rounds, c.pt_samples_per_round,
-                      c.rb_iterations_per_round, c.beta)
-          .combined;
-    });
-    const WelchT mean = welch_t(tested, reference, 0);
-    std::printf("[box with a pane] %-50s mean %.5f (%+.2f %%), rel. se of the difference %.3f %%, t %+.2f\n", c.name,
-                tested.mean[0], 100.0 * (tested.mean[0] / reference.mean[0] - 1.0), 100.0 * mean.se / reference.mean[0],
-                mean.t);
-    EXPECT_LT(mean.se / reference.mean[0], 0.007) << c.name << ": too noisy to see a 2 % bias";
-    for (int i = 0; i < kLargeRegions; ++i) {
-      const WelchT w = welch_t(tested, reference, i);
-      EXPECT_GT(student_t_two_sided_p(w.t, w.dof), alpha)
-          << c.name << ", " << large_region_name(i) << ": " << tested.mean[i] << " vs " << reference.mean[i] << " (t "
-          << w.t << ", " << w.dof << " dof)";
-    }
-  }
+  expect_combination_matches_pt_with_power_to_see_two_percent(box_with_a_pane(), "box with a pane");
 }
 
 // A sun through a glass ceiling (the glossy light box's ceiling made a clear pane, its lamp off): only
