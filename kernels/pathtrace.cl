@@ -195,7 +195,8 @@ static PathRadiance trace_path(const SceneRefs* scene, const PathTraceParams* pa
                             rng_uniform(rng));
       if (ds.event == BP_DIELECTRIC_ABSORBED) break;
       throughput *= ds.factor;
-      if (ds.event == BP_DIELECTRIC_REFRACT) medium = front ? bp_load3(hit_material->attenuation) : make_float3(0.0f, 0.0f, 0.0f);
+      if (ds.event == BP_DIELECTRIC_REFRACT)  // into the medium through the front, out through the back
+        medium = front ? bp_load3(hit_material->attenuation) : make_float3(0.0f, 0.0f, 0.0f);
       delta = ds.event != BP_DIELECTRIC_REST;
       if (delta) dir = ds.wi;
     }
@@ -220,7 +221,7 @@ static PathRadiance trace_path(const SceneRefs* scene, const PathTraceParams* pa
                                                                                      : -params->ray_epsilon);
       continue;
     }
-    if (!surface.reflects && !(scene->materials[surface.material].flags & BP_MATERIAL_DOUBLE_SIDED)) break;
+    if (!surface.reflects && !(hit_material->flags & BP_MATERIAL_DOUBLE_SIDED)) break;
     delta_run = 0u;
     Bsdf bsdf = pt_bsdf(scene, &surface, &hit);
     float3 wo = -dir;
