@@ -592,7 +592,8 @@ __kernel void rb_eye_hits(__global const BvhNode* nodes, __global const BvhTrian
                           __global float4* eye_normals, const uint uv_slots, __global const TextureView* texture_views,
                           __global const uint* texels, __global const MaterialTextures* material_textures,
                           __global const float* texcoords, __global float4* eye_texels, const uint alpha_masks,
-                          const float ray_epsilon, __global const float* tangents) {
+                          const float ray_epsilon, __global const float* tangents,
+                          __global const ClusterFan* cluster_fans) {
   uint pixel = (uint)get_global_id(0);
   if (pixel >= camera.width * camera.height) return;
   Rng rng = rng_init(seed, pixel, jitter_index);
@@ -618,15 +619,16 @@ __kernel void rb_eye_hits(__global const BvhNode* nodes, __global const BvhTrian
                                                      origin, dir, ray_epsilon, 0, &rng, &filter, &pane_event, &hit, &rays);
   out.filter[0] = filter.x; out.filter[1] = filter.y; out.filter[2] = filter.z;
   if (hits_surface) {
-    SurfaceHit s = surface_at_shaded(shading, shading_normals, has_normals, &textures, tangents, hit.triangle,
-                                     hit.b1, hit.b2, origin + dir * hit.t, dir);
+    const float3 position = origin + dir * hit.t;
+    SurfaceHit s = surface_at_shaded(shading, cluster_fans, shading_normals, has_normals, &textures, tangents,
+                                     hit.triangle, hit.b1, hit.b2, position, dir);
     shading_normal = s.shading_normal;
     out.element = 0u;
     if (s.reflects || (materials[s.material].flags & BP_MATERIAL_DOUBLE_SIDED)) {
-      __global const TriangleShading* t = &shading[hit.triangle];
+      const PatchPlace place = patch_place(&shading[hit.triangle], cluster_fans, hit.b1, hit.b2, position);
       out.patch = s.patch;
-      out.element = t->first_element + patch_local_index(hit.b1, hit.b2, t->patch_subdiv);
-      patch_local_barycentrics(hit.b1, hit.b2, t->patch_subdiv, &out.l1, &out.l2);
+      out.element = place.first_element + patch_local_index(place.b1, place.b2, place.patch_subdiv);
+      patch_local_barycentrics(place.b1, place.b2, place.patch_subdiv, &out.l1, &out.l2);
       MaterialTextures mt;
       if (BP_FEATURE_TEXTURES && uv_slots > 0u && material_is_textured((mt = material_textures[s.material], &mt))) {
         // the eye gather reflects with the texel at the hit (DESIGN.md §6), its weights with the patch's mean

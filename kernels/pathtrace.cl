@@ -18,6 +18,7 @@ typedef struct {
   BP_GLOBAL const BvhNode* nodes;
   BP_GLOBAL const BvhTriangle* triangles;
   BP_GLOBAL const TriangleShading* shading;
+  BP_GLOBAL const ClusterFan* cluster_fans;
   BP_GLOBAL const Material* materials;
   BP_GLOBAL const float* shading_normals;  // NORMAL corners, 9 floats per triangle (params.shading_normals)
   BP_GLOBAL const float* tangents;         // TANGENT corners of normal-mapped triangles, 12 floats each (normal_map.h)
@@ -177,7 +178,7 @@ static PathRadiance trace_path(const SceneRefs* scene, const PathTraceParams* pa
                       last_pdf_bsdf_patch, last_pdf_bsdf, last_pdf_proxy, last_patch, last_delta, &radiance);
       break;
     }
-    SurfaceHit surface = surface_at_shaded(scene->shading, scene->shading_normals, params->shading_normals,
+    SurfaceHit surface = surface_at_shaded(scene->shading, scene->cluster_fans, scene->shading_normals, params->shading_normals,
                                            &scene->lights.textures, scene->tangents, hit.triangle, hit.b1, hit.b2,
                                            origin + dir * hit.t, dir);
     if (BP_FEATURE_TRANSMISSION) throughput *= medium_transmittance(medium, length(surface.position - vertex));
@@ -294,10 +295,11 @@ __kernel void pathtrace(__global const BvhNode* nodes, __global const BvhTriangl
                         __global const float* shading_normals, __global const TextureView* texture_views,
                         __global const uint* texels, __global const MaterialTextures* material_textures,
                         __global const float* texcoords, __global const Material* patch_materials,
-                        const uint alpha_masks, __global const float* environment, __global const float* tangents) {
+                        const uint alpha_masks, __global const float* environment, __global const float* tangents,
+                        __global const ClusterFan* cluster_fans) {
   bp_u32 pixel = (bp_u32)get_global_id(0);
   if (pixel >= camera.width * camera.height) return;
-  SceneRefs scene = {nodes, triangles, shading, materials, shading_normals, tangents,
+  SceneRefs scene = {nodes, triangles, shading, cluster_fans, materials, shading_normals, tangents,
                      light_set(lights, light_cdf, light_tree, light_receivers, params.light_count, light_selection),
                      patch_materials, alpha_masks};
   const TextureSet textures = {texture_views, texels, material_textures, texcoords, params.uv_slots};

@@ -105,6 +105,10 @@ scene and light:
   --environment FILE.exr  the same from an equirectangular RGB(A) EXR: +Y up, the centre
                       column along -Z; at most 8192x4096 texels, finite and >= 0 (else exit 3)
   --patch-size M      ray bundles' target patch edge in metres      [scene diagonal / 20]
+  --patch-clusters on|off  on: the ray bundles see flat neighbouring triangles of one plain
+                      material merged into convex patches (at most --patch-size across, else
+                      the scene diagonal / 80), so a finely tessellated scene costs what its
+                      surfaces need, not its triangle count                          [on]
   --no-light-sampling turn light sampling off (then point, spot and directional lights stay
                       dark, and emitters are found by BSDF sampling and bundles alone)
 
@@ -312,6 +316,10 @@ RenderOptions parse_render_options(const std::vector<std::string>& args) {
        }},
       {"--patch-size", [&](auto& k, auto& v) {
          o.patch_size = parse_number<float>(k, v, 1e-9f, 1e9f, "a length in metres > 0");
+       }},
+      {"--patch-clusters", [&](auto& k, auto& v) {
+         if (v != "on" && v != "off") throw UsageError(k + ": expected on or off (got '" + v + "')");
+         o.patch_clusters = v == "on";
        }},
       {"--stats", [&](auto&, auto& v) { o.stats_path = v; }},
       {"--camera", [&](auto& k, auto& v) {

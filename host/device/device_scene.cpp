@@ -43,6 +43,7 @@ std::vector<Material> pack_materials(const Scene& scene, const LightList& lights
 std::vector<TriangleShading> pack_triangle_shading(const Scene& scene, const PatchLayout& patches) {
   std::vector<TriangleShading> out(scene.triangles.size());
   std::uint32_t first_element = 0;
+  const PatchClusters& clusters = patches.clusters;
   for (std::size_t i = 0; i < scene.triangles.size(); ++i) {
     const SceneTriangle& t = scene.triangles[i];
     glm::vec3 c = glm::cross(t.p[1] - t.p[0], t.p[2] - t.p[0]);
@@ -57,6 +58,35 @@ std::vector<TriangleShading> pack_triangle_shading(const Scene& scene, const Pat
     s.area = 0.5f * len;
     s.first_element = first_element;  // the same numbering as build_bundle_geometry
     first_element += patches.subdiv[i] * patches.subdiv[i];
+    if (!clusters.fans.empty()) {
+      s.cluster_first_fan = clusters.fan_first[i];
+      s.cluster_fans = clusters.fan_count[i];
+    }
+  }
+  return out;
+}
+
+std::vector<ClusterFan> pack_cluster_fans(const Scene& scene, const PatchLayout& patches) {
+  std::vector<ClusterFan> out(patches.clusters.fans.size());
+  std::uint32_t first_element = 0;  // elements: the scene's triangles', then the fans' (build_bundle_geometry)
+  for (std::size_t t = 0; t < scene.triangles.size(); ++t) first_element += patches.subdiv[t] * patches.subdiv[t];
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    const std::size_t t = scene.triangles.size() + i;
+    const SceneTriangle& f = patches.clusters.fans[i];
+    const glm::dvec3 e1(f.p[1] - f.p[0]), e2(f.p[2] - f.p[0]), n = glm::cross(e1, e2);
+    // dual vectors in the plane: dual1 = (e2 x n) / ((e1 x e2) . n), dual2 = (n x e1) / ((e1 x e2) . n)
+    const double det = glm::dot(n, n);
+    const glm::dvec3 dual1 = glm::cross(e2, n) / det, dual2 = glm::cross(n, e1) / det;
+    ClusterFan& c = out[i];
+    for (int k = 0; k < 3; ++k) {
+      c.p0[k] = f.p[0][k];
+      c.dual1[k] = float(dual1[k]);
+      c.dual2[k] = float(dual2[k]);
+    }
+    c.first_patch = patches.first_patch[t];
+    c.patch_subdiv = patches.subdiv[t];
+    c.first_element = first_element;
+    first_element += patches.subdiv[t] * patches.subdiv[t];
   }
   return out;
 }
@@ -134,6 +164,7 @@ DeviceScene::DeviceScene(const DeviceContext& device, const Scene& scene, const 
   tree_in = at_least_one(std::move(tree_in));
   receivers_in = at_least_one(std::move(receivers_in));
   const std::vector<TriangleShading> shading_in = pack_triangle_shading(scene, patches);
+  const std::vector<ClusterFan> fans_in = at_least_one(pack_cluster_fans(scene, patches));
   const std::vector<Material> materials_in = pack_materials(scene, light_list);
   const std::vector<Light> lights_in = at_least_one(light_list.lights);
   const std::vector<float> cdf_in = at_least_one(light_list.cdf);
@@ -166,9 +197,9 @@ DeviceScene::DeviceScene(const DeviceContext& device, const Scene& scene, const 
   std::vector<float> element_coverage_in;
   if (alpha_masks) {
     element_coverage_in = element_alpha_coverage(scene, patches);
-    for (std::size_t t = 0; t < scene.triangles.size(); ++t)
+    for (std::size_t t = 0; t < patch_triangle_count(scene, patches); ++t)
       element_triangle_in.insert(element_triangle_in.end(), std::size_t(patches.subdiv[t]) * patches.subdiv[t],
-                                 std::uint32_t(t));
+                                 std::uint32_t(scene_triangle_of(scene, patches, t)));
   }
   element_triangle_in = at_least_one(std::move(element_triangle_in));
   element_coverage_in = at_least_one(std::move(element_coverage_in));
@@ -182,6 +213,7 @@ DeviceScene::DeviceScene(const DeviceContext& device, const Scene& scene, const 
   nodes = upload_buffer(device, "bvh nodes", bvh.nodes);
   triangles = upload_buffer(device, "bvh triangles", bvh.triangles);
   shading = upload_buffer(device, "triangle shading", shading_in);
+  cluster_fans = upload_buffer(device, "cluster fans", fans_in);
   materials = upload_buffer(device, "materials", materials_in);
   lights = upload_buffer(device, "lights", lights_in);
   light_cdf = upload_buffer(device, "light cdf", cdf_in);
@@ -193,7 +225,7 @@ DeviceScene::DeviceScene(const DeviceContext& device, const Scene& scene, const 
   node_count = bvh.nodes.size();
   light_count = std::uint32_t(light_list.lights.size());
   bytes = bvh.nodes.size() * sizeof(BvhNode) + bvh.triangles.size() * sizeof(BvhTriangle) +
-          shading_in.size() * sizeof(TriangleShading) + materials_in.size() * sizeof(Material) +
+          shading_in.size() * sizeof(TriangleShading) + fans_in.size() * sizeof(ClusterFan) + materials_in.size() * sizeof(Material) +
           lights_in.size() * sizeof(Light) + cdf_in.size() * sizeof(float) +
           tree_in.size() * sizeof(LightTreeNode) + receivers_in.size() * sizeof(LightReceiver) +
           (normals_in.size() + tangents_in.size()) * sizeof(float) + texture_bytes + environment_bytes;  // (textures' stand-ins: a few bytes, not counted)

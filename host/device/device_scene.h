@@ -15,6 +15,8 @@ namespace bp {
 // Host-side packing, separate from upload so it can be tested without a device.
 std::vector<Material> pack_materials(const Scene& scene, const LightList& lights);
 std::vector<TriangleShading> pack_triangle_shading(const Scene& scene, const PatchLayout& patches);
+// The clusters' fan triangles (kernels/shared/cluster.h), in PatchLayout's order.
+std::vector<ClusterFan> pack_cluster_fans(const Scene& scene, const PatchLayout& patches);
 // Per triangle its three corners' shading normals (9 floats, front side; the flat normal where the
 // triangle has no NORMAL), or nothing when no triangle has them (the kernels then never read them).
 std::vector<float> pack_shading_normals(const Scene& scene);
@@ -28,6 +30,7 @@ float ray_epsilon_for(const Bounds& bounds);
 
 struct DeviceScene {
   cl::Buffer nodes, triangles, shading, materials;
+  cl::Buffer cluster_fans;  // pack_cluster_fans (one dummy entry without clusters)
   cl::Buffer lights, light_cdf;  // one dummy entry each when the scene has no light to sample
   cl::Buffer shading_normals;  // pack_shading_normals (one dummy entry without them)
   std::uint32_t has_shading_normals = 0;  // 1: the kernels interpolate shading_normals

@@ -13,8 +13,11 @@ static_assert(offsetof(Material, base_color) == 48 && offsetof(Material, dielect
               offsetof(Material, specular_weight) == 80);
 static_assert(offsetof(Material, transmission_tint) == sizeof(Material) - 32 && offsetof(Material, ior) == sizeof(Material) - 16,
               "the transmission fields end Material");
-BP_CHECK_LAYOUT(TriangleShading, 32);
-static_assert(offsetof(TriangleShading, material) == 12 && offsetof(TriangleShading, area) == 24);
+BP_CHECK_LAYOUT(TriangleShading, 48);
+static_assert(offsetof(TriangleShading, material) == 12 && offsetof(TriangleShading, area) == 24 &&
+              offsetof(TriangleShading, cluster_fans) == 36);
+BP_CHECK_LAYOUT(ClusterFan, 48);
+static_assert(offsetof(ClusterFan, dual1) == 16 && offsetof(ClusterFan, dual2) == 32);
 BP_CHECK_LAYOUT(CameraParams, 64);
 static_assert(offsetof(CameraParams, right) == 16 && offsetof(CameraParams, forward) == 48);
 BP_CHECK_LAYOUT(PathTraceParams, 80);

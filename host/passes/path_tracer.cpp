@@ -30,7 +30,7 @@ PathTracerPass::PathTracerPass(const DeviceContext& device, const DeviceScene& s
   set_args(kernel_, scene.nodes, scene.triangles, scene.shading, scene.materials, scene.lights, scene.light_cdf, camera_,
            params_, pixels_, scene.light_tree, scene.light_receivers, cl_uint(scene.light_selection),
            scene.shading_normals, scene.texture_views, scene.texels, scene.material_textures, scene.texcoords,
-           scene.patch_materials, cl_uint(scene.alpha_masks), scene.environment, scene.tangents);
+           scene.patch_materials, cl_uint(scene.alpha_masks), scene.environment, scene.tangents, scene.cluster_fans);
 }
 
 std::uint32_t PathTracerPass::max_batch() const {

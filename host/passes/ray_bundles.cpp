@@ -407,7 +407,7 @@ void RayBundlePass::trace_eye_hits(std::uint64_t jitter_index) {
              cl_uint(settings_.seed ^ 0x5eed0e7eu), cl_uint(jitter_index), view.hits, scene_.shading_normals,
              cl_uint(scene_.has_shading_normals), view.normals, cl_uint(scene_.uv_slots), scene_.texture_views,
              scene_.texels, scene_.material_textures, scene_.texcoords, view.texels, cl_uint(scene_.alpha_masks),
-             scene_.ray_epsilon, scene_.tangents);
+             scene_.ray_epsilon, scene_.tangents, scene_.cluster_fans);
     launcher_.launch("rb_eye_hits", eye_hits_, pixel_count_, 64);
   }
 }

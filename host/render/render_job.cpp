@@ -271,10 +271,14 @@ void render_rounds(RenderState& s, RenderObserver& observer) {
   // ready to stop (its handler installed), however long its kernel builds took.
   s.ranks.wait_for_all();
   observer.started();
-  observer.note(printf_text("rendering %s (%dx%d, %s%s, %zu triangles, %u patches) on %s", o.scene.c_str(),
+  const PatchClusters& clusters = s.scene.patches.clusters;
+  const std::string clustered = o.patch_clusters ? printf_text(" (%zu of the triangles in %zu clusters)",
+                                                               clusters.clustered_triangles, clusters.clusters)
+                                                 : "";
+  observer.note(printf_text("rendering %s (%dx%d, %s%s, %zu triangles, %u patches%s) on %s", o.scene.c_str(),
                             s.scene.width, s.scene.height, o.mode.c_str(),
                             s.shape ? (", weights " + o.weights).c_str() : "", s.scene.scene.triangles.size(),
-                            s.scene.patches.patch_count, device_description(s).c_str()));
+                            s.scene.patches.patch_count, clustered.c_str(), device_description(s).c_str()));
   for (std::size_t i : s.roles.idle)
     observer.note("warning: --mode " + o.mode + " runs on one device: " + s.devices[i]->context.info.device_name +
                   " stays idle");

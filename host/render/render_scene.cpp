@@ -64,7 +64,10 @@ RenderScene prepare_scene(const RenderSpec& o, const std::function<void(const st
 
   s.patch_size = o.patch_size > 0.0f ? o.patch_size : default_patch_size(scene);
   try {
-    s.patches = build_patch_layout(scene, s.patch_size);
+    const float cluster_size = !o.patch_clusters ? 0.0f : o.patch_size > 0.0f ? o.patch_size : default_cluster_size(scene);
+    const auto t_patches = clock::now();
+    s.patches = build_patch_layout(scene, s.patch_size, cluster_size);
+    s.patch_seconds = seconds_since(t_patches);
   } catch (const std::invalid_argument& e) {
     throw UsageError(e.what());
   }

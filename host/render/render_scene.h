@@ -19,6 +19,7 @@ struct RenderScene {
   std::vector<SceneCamera> views;     // spec.views resolved (scene/camera_views.h); a plain render: one
   int width = 0, height = 0;          // --height 0 resolved from the camera's aspect
   float patch_size = 0.0f;            // --patch-size, or default_patch_size
+  double patch_seconds = 0.0;         // the patch layout's build, clusters included
   PatchLayout patches;
   FlatBvh bvh;
   double load_seconds = 0.0, bvh_seconds = 0.0;

@@ -237,6 +237,11 @@ nlohmann::json render_stats(const RenderState& s, const RenderResult& r) {
   stats["triangles"] = s.scene.scene.triangles.size();
   stats["patches"] = s.scene.patches.patch_count;
   stats["patch_size"] = s.scene.patch_size;
+  stats["patch_seconds"] = s.scene.patch_seconds;
+  if (o.patch_clusters) {
+    stats["patch_clusters"] = s.scene.patches.clusters.clusters;
+    stats["clustered_triangles"] = s.scene.patches.clusters.clustered_triangles;
+  }
   stats["scene_device_bytes"] = device_scene.bytes;  // BVH, shading, materials, lights, light tree, receivers, textures
   stats["texture_device_bytes"] = device_scene.texture_bytes;  // texels, views, texcoords, patch means
   stats["environment_device_bytes"] = device_scene.environment_bytes;  // the environment map and its cdfs

@@ -65,8 +65,9 @@ void weld_vertices(const Scene& scene, BundleGeometry& g) {
 BundleSize bundle_size(const Scene& scene, const PatchLayout& patches) {
   BundleSize size;
   size.patches = patches.patch_count;
-  for (std::size_t t = 0; t < scene.triangles.size(); ++t) {
-    const SceneTriangle& tri = scene.triangles[t];
+  for (std::size_t t = 0; t < patch_triangle_count(scene, patches); ++t) {
+    if (patches.subdiv[t] == 0) continue;  // clustered: its fan has its area
+    const SceneTriangle& tri = patch_triangle(scene, patches, t);
     size.elements += std::size_t(patches.subdiv[t]) * patches.subdiv[t];
     size.element_area += 0.5 * double(glm::length(glm::cross(tri.p[1] - tri.p[0], tri.p[2] - tri.p[0])));
     // k^2 congruent sub-triangles, each with 1/k of the triangle's perimeter
@@ -86,15 +87,15 @@ BundleSize bundle_size(const BundleGeometry& geometry) {
 BundleGeometry build_bundle_geometry(const Scene& scene, const PatchLayout& patches) {
   BundleGeometry g;
   g.patch_element.assign(patches.patch_count, 0u);
-  g.first_element.resize(scene.triangles.size());
+  g.first_element.resize(patch_triangle_count(scene, patches));
   std::size_t element_count = 0;
-  for (std::size_t t = 0; t < scene.triangles.size(); ++t) {
+  for (std::size_t t = 0; t < g.first_element.size(); ++t) {
     g.first_element[t] = std::uint32_t(element_count);
     element_count += std::size_t(patches.subdiv[t]) * patches.subdiv[t];
   }
   g.elements.resize(element_count);
   for_each_sub_triangle(scene, patches, [&](const SubTriangle& sub) {
-    const SceneTriangle& tri = scene.triangles[sub.triangle];
+    const SceneTriangle& tri = *sub.parent;
     glm::vec3 c[3];
     for (int i = 0; i < 3; ++i) c[i] = tri.p[0] + sub.b1[i] * sub.e1 + sub.b2[i] * sub.e2;
     const std::uint32_t index = g.first_element[sub.triangle] + sub.local;

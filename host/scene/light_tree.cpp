@@ -339,9 +339,10 @@ std::vector<LightReceiver> build_light_receivers(const Scene& scene, const Patch
   std::vector<LightReceiver> out(patches.patch_count);
   const bool infinite = !lights.lights.empty() && light_is_infinite(lights.lights.back().type);
   for_each_sub_triangle_in_parallel(scene, patches, [&](const SubTriangle& sub) {
-    const SceneTriangle& tri = scene.triangles[sub.triangle];
-    const std::uint32_t light =
-        lights.light_of_triangle.empty() ? BP_NO_LIGHT : lights.light_of_triangle[sub.triangle];
+    const SceneTriangle& tri = *sub.parent;
+    const std::uint32_t light = lights.light_of_triangle.empty() || sub.triangle >= scene.triangles.size()
+                                    ? BP_NO_LIGHT  // (a cluster's fan: clusters emit nothing)
+                                    : lights.light_of_triangle[sub.triangle];
     glm::dvec3 c[3], centroid(0.0);
     for (int i = 0; i < 3; ++i) {
       c[i] = glm::dvec3(tri.p[0]) + double(sub.b1[i]) * glm::dvec3(sub.e1) + double(sub.b2[i]) * glm::dvec3(sub.e2);

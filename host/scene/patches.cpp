@@ -11,17 +11,29 @@ float default_patch_size(const Scene& scene) {
   return kDefaultPatchFraction * glm::length(scene.bounds.extent());
 }
 
-PatchLayout build_patch_layout(const Scene& scene, float target_size) {
+float default_cluster_size(const Scene& scene) {
+  return kDefaultClusterFraction * glm::length(scene.bounds.extent());
+}
+
+PatchLayout build_patch_layout(const Scene& scene, float target_size, float cluster_size) {
   if (!(target_size > 0.0f) || !std::isfinite(target_size))
     throw std::invalid_argument("--patch-size must be a positive finite length in metres (got " +
                                 std::to_string(target_size) + ")");
   constexpr std::uint64_t kMaxPatches = std::uint64_t(1) << 31;
   PatchLayout layout;
   layout.target_size = target_size;
-  layout.first_patch.reserve(scene.triangles.size());
-  layout.subdiv.reserve(scene.triangles.size());
+  if (cluster_size > 0.0f) layout.clusters = build_patch_clusters(scene, cluster_size);
+  const std::size_t triangles = patch_triangle_count(scene, layout);
+  layout.first_patch.reserve(triangles);
+  layout.subdiv.reserve(triangles);
   std::uint64_t total = 0;
-  for (const SceneTriangle& t : scene.triangles) {
+  for (std::size_t i = 0; i < triangles; ++i) {
+    const SceneTriangle& t = patch_triangle(scene, layout, i);
+    if (i < scene.triangles.size() && !layout.clusters.fans.empty() && layout.clusters.fan_count[i] > 0) {
+      layout.first_patch.push_back(std::uint32_t(total));  // its cluster's fan owns its patches
+      layout.subdiv.push_back(0u);
+      continue;
+    }
     const float longest = std::max({glm::length(t.p[1] - t.p[0]), glm::length(t.p[2] - t.p[1]),
                                     glm::length(t.p[0] - t.p[2])});
     const double k = std::max(1.0, std::ceil(double(longest) / double(target_size)));

@@ -1,6 +1,9 @@
 // Patches (DESIGN.md §6): every triangle is split into k^2 sub-triangles (kernels/shared/patch.h)
-// with k chosen so that every sub-triangle edge is at most the target patch size.
+// with k chosen so that every sub-triangle edge is at most the target patch size. With clusters
+// (DESIGN.md §12, clusters.h) a clustered scene triangle owns no patches (k = 0) and its cluster's
+// fan triangles, numbered after the scene's, own them: the "patch triangles".
 #pragma once
+#include "scene/clusters.h"
 #include "scene/scene.h"
 #include "kernels/shared/patch.h"
 #include <algorithm>
@@ -12,10 +15,23 @@ namespace bp {
 
 struct PatchLayout {
   float target_size = 0.0f;               // metres
-  std::vector<std::uint32_t> first_patch; // per triangle
-  std::vector<std::uint32_t> subdiv;      // per triangle: k
+  std::vector<std::uint32_t> first_patch; // per patch triangle
+  std::vector<std::uint32_t> subdiv;      // per patch triangle: k (0: a clustered scene triangle)
   std::uint32_t patch_count = 0;          // front patches, plus back patches of double-sided triangles
+  PatchClusters clusters;                 // empty fans: none
 };
+
+// The scene's triangles, then the clusters' fan triangles.
+inline std::size_t patch_triangle_count(const Scene& scene, const PatchLayout& patches) {
+  return scene.triangles.size() + patches.clusters.fans.size();
+}
+inline const SceneTriangle& patch_triangle(const Scene& scene, const PatchLayout& patches, std::size_t t) {
+  return t < scene.triangles.size() ? scene.triangles[t] : patches.clusters.fans[t - scene.triangles.size()];
+}
+// The scene triangle a patch triangle stands for (a fan: one triangle of its cluster).
+inline std::size_t scene_triangle_of(const Scene& scene, const PatchLayout& patches, std::size_t t) {
+  return t < scene.triangles.size() ? t : patches.clusters.fan_source[t - scene.triangles.size()];
+}
 
 // Default target patch size: kDefaultPatchFraction of the scene's bounding-box diagonal. 1/20 gives
 // the Cornell box (diagonal 0.96 m, target 4.8 cm) 3734 patches (a wall triangle, longest edge the
@@ -23,15 +39,22 @@ struct PatchLayout {
 // cheap and the patch count scales with the scene's shape, not its units. --patch-size overrides.
 inline constexpr float kDefaultPatchFraction = 1.0f / 20.0f;
 float default_patch_size(const Scene& scene);
+// Default largest diameter of a cluster (--patch-clusters, DESIGN.md §12): kDefaultClusterFraction
+// of the diagonal. 1/80 gives the 25-room house (diagonal 32 m) clusters of up to 0.4 m, where its
+// RB error at 640x360 equals that of its 100 k triangles unclustered (docs/results.md, "Clusters").
+inline constexpr float kDefaultClusterFraction = 1.0f / 80.0f;
+float default_cluster_size(const Scene& scene);
 
 // Throws std::invalid_argument if target_size is not positive and finite, or the patch count
-// would exceed 2^31 (the message names --patch-size).
-PatchLayout build_patch_layout(const Scene& scene, float target_size);
+// would exceed 2^31 (the message names --patch-size). cluster_size > 0: merge triangles into
+// clusters of diameter at most cluster_size first (build_patch_clusters).
+PatchLayout build_patch_layout(const Scene& scene, float target_size, float cluster_size = 0.0f);
 
 // One patch-level sub-triangle of a scene triangle, as the host-side builders (RB's elements, the
 // light tree's receivers) walk them: corner c is parent.p[0] + b1[c] e1 + b2[c] e2.
 struct SubTriangle {
-  std::size_t triangle;        // index into scene.triangles
+  std::size_t triangle;        // patch triangle (patch_triangle)
+  const SceneTriangle* parent; // that triangle
   std::uint32_t local;         // 0 .. k^2 - 1 (kernels/shared/patch.h)
   std::uint32_t k2;            // sub-triangles of the parent
   float b1[3], b2[3];          // the corners' barycentrics
@@ -46,10 +69,11 @@ struct SubTriangle {
 template <class Visit>
 void for_each_sub_triangle(const Scene& scene, const PatchLayout& patches, Visit&& visit, std::size_t first = 0,
                            std::size_t last = SIZE_MAX) {
-  for (std::size_t t = first; t < scene.triangles.size() && t < last; ++t) {
-    const SceneTriangle& tri = scene.triangles[t];
+  for (std::size_t t = first; t < patch_triangle_count(scene, patches) && t < last; ++t) {
+    const SceneTriangle& tri = patch_triangle(scene, patches, t);
     SubTriangle sub{};
     sub.triangle = t;
+    sub.parent = &tri;
     sub.k2 = patches.subdiv[t] * patches.subdiv[t];
     sub.double_sided = scene.materials[tri.material].double_sided;
     sub.e1 = tri.p[1] - tri.p[0];
@@ -67,7 +91,7 @@ void for_each_sub_triangle(const Scene& scene, const PatchLayout& patches, Visit
 // for_each_sub_triangle with the triangles split among the host's threads; visit must only write
 // what its own sub-triangle owns.
 template <class Visit> void for_each_sub_triangle_in_parallel(const Scene& scene, const PatchLayout& patches, Visit&& visit) {
-  const std::size_t n = scene.triangles.size();
+  const std::size_t n = patch_triangle_count(scene, patches);
   const std::size_t threads = std::clamp<std::size_t>(std::thread::hardware_concurrency(), 1, (n + 63) / 64);
   std::vector<std::thread> pool;
   for (std::size_t i = 0; i < threads; ++i)

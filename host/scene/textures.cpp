@@ -125,7 +125,7 @@ std::vector<Material> patch_mean_materials(const Scene& scene, const PatchLayout
   const std::vector<float> texcoords = pack_texcoords(scene);
   const TextureSet set = host_texture_set(scene, material_textures, texcoords);
   for_each_sub_triangle_in_parallel(scene, patches, [&](const SubTriangle& sub) {
-    const SceneTriangle& tri = scene.triangles[sub.triangle];
+    const SceneTriangle& tri = *sub.parent;  // (a cluster's fan is untextured: clusters.h)
     Material m = materials[tri.material];
     const SceneMaterial& sm = scene.materials[tri.material];
     if (sm.textured()) {
@@ -164,15 +164,16 @@ std::vector<Material> patch_mean_materials(const Scene& scene, const PatchLayout
 }
 
 std::vector<float> element_alpha_coverage(const Scene& scene, const PatchLayout& patches) {
-  std::vector<std::size_t> first_element(scene.triangles.size() + 1, 0);  // elements: k^2 per triangle, in order
-  for (std::size_t t = 0; t < scene.triangles.size(); ++t)
+  // elements: k^2 per patch triangle, in order
+  std::vector<std::size_t> first_element(patch_triangle_count(scene, patches) + 1, 0);
+  for (std::size_t t = 0; t + 1 < first_element.size(); ++t)
     first_element[t + 1] = first_element[t] + std::size_t(patches.subdiv[t]) * patches.subdiv[t];
   std::vector<float> out(first_element.back(), 1.0f);
   const std::vector<MaterialTextures> material_textures = pack_material_textures(scene);
   const std::vector<float> texcoords = pack_texcoords(scene);
   const TextureSet set = host_texture_set(scene, material_textures, texcoords);
   for_each_sub_triangle_in_parallel(scene, patches, [&](const SubTriangle& sub) {
-    const std::uint32_t material = scene.triangles[sub.triangle].material;
+    const std::uint32_t material = sub.parent->material;  // (a cluster's fan is never masked: clusters.h)
     if (!scene.materials[material].textured() || !(scene.materials[material].textures.alpha_cutoff > 0.0f)) return;
     double surface = 0.0;
     for_each_patch_point(sub, [&](float b1, float b2) {

@@ -4,7 +4,7 @@
 #define BP_SHARED_SURFACE_H
 #include "shared/compat.h"
 #include "shared/normal_map.h"
-#include "shared/patch.h"
+#include "shared/cluster.h"
 #include "shared/types.h"
 
 typedef struct {
@@ -16,8 +16,8 @@ typedef struct {
   int reflects;        // 0: the back of a single-sided surface (black, emits nothing)
 } SurfaceHit;
 
-BP_FN SurfaceHit surface_at(BP_GLOBAL const TriangleShading* shading, bp_u32 triangle, float b1, float b2,
-                            float3 position, float3 ray_dir) {
+BP_FN SurfaceHit surface_at(BP_GLOBAL const TriangleShading* shading, BP_GLOBAL const ClusterFan* fans,
+                            bp_u32 triangle, float b1, float b2, float3 position, float3 ray_dir) {
   BP_GLOBAL const TriangleShading* t = &shading[triangle];
   BP_GLOBAL const float* nf = t->normal;
   float3 n = make_float3(nf[0], nf[1], nf[2]);
@@ -27,8 +27,9 @@ BP_FN SurfaceHit surface_at(BP_GLOBAL const TriangleShading* shading, bp_u32 tri
   s.normal = front ? n : -n;
   s.shading_normal = s.normal;
   s.material = t->material;
-  bp_u32 k = t->patch_subdiv;
-  s.patch = t->first_patch + (front ? 0u : k * k) + patch_local_index(b1, b2, k);
+  PatchPlace place = patch_place(t, fans, b1, b2, position);
+  bp_u32 k = place.patch_subdiv;
+  s.patch = place.first_patch + (front ? 0u : k * k) + patch_local_index(place.b1, place.b2, k);
   s.reflects = front;
   return s;
 }
@@ -50,10 +51,11 @@ BP_FN float3 shading_normal_at(BP_GLOBAL const float* normals, bp_u32 triangle, 
 // surface_at with the shading normal filled in where the scene has NORMAL corners (has_normals),
 // and perturbed by the material's normal map where it has one (`set` with uv_slots > 0: textures;
 // `tangents`: 12 floats per triangle, normal_map.h).
-BP_FN SurfaceHit surface_at_shaded(BP_GLOBAL const TriangleShading* shading, BP_GLOBAL const float* normals,
+BP_FN SurfaceHit surface_at_shaded(BP_GLOBAL const TriangleShading* shading, BP_GLOBAL const ClusterFan* fans,
+                                   BP_GLOBAL const float* normals,
                                    bp_u32 has_normals, const TextureSet* set, BP_GLOBAL const float* tangents,
                                    bp_u32 triangle, float b1, float b2, float3 position, float3 ray_dir) {
-  SurfaceHit s = surface_at(shading, triangle, b1, b2, position, ray_dir);
+  SurfaceHit s = surface_at(shading, fans, triangle, b1, b2, position, ray_dir);
   if (!BP_FEATURE_SHADING_NORMALS || !has_normals) return s;
   s.shading_normal = shading_normal_at(normals, triangle, b1, b2, s.normal, s.reflects);
   if (BP_FEATURE_NORMAL_MAPS && set->uv_slots > 0u)

@@ -38,7 +38,9 @@ typedef struct {
 
 // What shading needs of a triangle besides its geometry (the BVH owns the geometry).
 // Patches: the triangle is split into patch_subdiv^2 sub-triangles (patch.h); a double-sided
-// triangle owns twice as many, the back-side ones after the front-side ones.
+// triangle owns twice as many, the back-side ones after the front-side ones. A triangle merged into a
+// cluster (DESIGN.md §12) owns none (patch_subdiv 0): the cluster_fans triangles of its cluster's
+// fan, from cluster_first_fan in ClusterFan's array, own them.
 typedef struct {
   float normal[3];       // geometric unit normal, front side (counter-clockwise winding)
   bp_u32 material;
@@ -46,7 +48,22 @@ typedef struct {
   bp_u32 patch_subdiv;
   float area;
   bp_u32 first_element;  // this triangle's first element (sub-triangle) in the ray-bundle pass
+  bp_u32 cluster_first_fan;
+  bp_u32 cluster_fans;   // 0: in no cluster
+  bp_u32 pad0, pad1;
 } TriangleShading;
+
+// A cluster's fan triangle as a hit finds its patch: barycentrics b1 = dot(p - p0, dual1),
+// b2 = dot(p - p0, dual2) (dual1 . e1 = 1, dual1 . e2 = 0 and the reverse, both in the plane), and the
+// patches and elements it owns as a triangle of TriangleShading does.
+typedef struct {
+  float p0[3];
+  bp_u32 first_patch;
+  float dual1[3];
+  bp_u32 patch_subdiv;
+  float dual2[3];
+  bp_u32 first_element;
+} ClusterFan;
 
 // Pinhole camera: a primary ray through pixel (px, py) with jitter (jx, jy) in [0,1)^2 is
 //   dir = normalize(forward + (2 (px+jx)/W - 1) tan_half_x right - (2 (py+jy)/H - 1) tan_half_y up)

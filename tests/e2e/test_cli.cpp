@@ -1,6 +1,7 @@
 // The command line as a user meets it: help, exit codes, messages, output files.
 #include "e2e/cli_runner.h"
 #include "image/image.h"
+#include "scene/gltf_test_util.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -20,7 +21,7 @@ TEST(Cli, HelpDocumentsEveryRenderOption) {
   CliResult r = run_cli("render --help");
   EXPECT_EQ(r.exit_code, 0);
   for (const char* opt : {"--out", "--width", "--height", "--spp", "--time", "--seed", "--device", "--mode",
-                          "--patch-size", "--stats", "--no-light-sampling", "--kernels", "--environment",
+                          "--patch-size", "--patch-clusters", "--stats", "--no-light-sampling", "--kernels", "--environment",
                           "--environment FILE.exr", "8192x4096"})
     EXPECT_NE(r.output.find(opt), std::string::npos) << opt;
   EXPECT_EQ(run_cli("--help").exit_code, 0);
@@ -37,6 +38,7 @@ TEST(Cli, UsageErrorsExitTwoAndNameTheOption) {
       {"render " + kScenes + "cornell-box.gltf --time nan", "--time"},
       {"render " + kScenes + "cornell-box.gltf --mode xyz", "--mode"},
       {"render " + kScenes + "cornell-box.gltf --patch-size 0", "--patch-size"},
+      {"render " + kScenes + "cornell-box.gltf --patch-clusters maybe", "--patch-clusters"},
       {"render " + kScenes + "cornell-box.gltf --spp", "--spp"},
       {"render " + kScenes + "cornell-box.gltf --kernels fast", "--kernels"},
       {"render " + kScenes + "cornell-box.gltf --environment 1,2", "--environment"},
@@ -479,6 +481,71 @@ TEST(Cli, RenderWritesExrPngAndStats) {
   // No temporary files left behind.
   for (const auto& e : fs::directory_iterator(dir))
     EXPECT_EQ(e.path().string().find(".tmp-"), std::string::npos) << e.path();
+}
+
+// A 1 m floor of 24 x 24 x 2 triangles under a small emissive square, facing it: the clusters
+// (--patch-clusters, on by default) merge the floor into patches of at most --patch-size.
+std::string write_tessellated_floor(const std::string& dir) {
+  const int n = 24;
+  std::vector<float> pos;
+  std::vector<std::uint32_t> index;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) pos.insert(pos.end(), {float(i) / n - 0.5f, 0.0f, 0.5f - float(j) / n});
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const std::uint32_t a = j * (n + 1) + i, b = a + 1, c = a + n + 2, d = a + n + 1;
+      index.insert(index.end(), {a, b, c, a, c, d});
+    }
+  const std::uint32_t light = std::uint32_t(pos.size() / 3);
+  pos.insert(pos.end(), {-0.1f, 0.5f, -0.1f, 0.1f, 0.5f, -0.1f, 0.1f, 0.5f, 0.1f, -0.1f, 0.5f, 0.1f});
+  const std::vector<std::uint32_t> light_index = {light, light + 2, light + 1, light, light + 3, light + 2};
+  std::string bin(reinterpret_cast<const char*>(pos.data()), pos.size() * 4);
+  const std::size_t index_at = bin.size();
+  bin.append(reinterpret_cast<const char*>(index.data()), index.size() * 4);
+  const std::size_t light_at = bin.size();
+  bin.append(reinterpret_cast<const char*>(light_index.data()), light_index.size() * 4);
+  nlohmann::json doc;
+  doc["asset"] = {{"version", "2.0"}};
+  doc["buffers"] = {{{"byteLength", bin.size()}, {"uri", "data:application/octet-stream;base64," + base64(bin)}}};
+  doc["bufferViews"] = {{{"buffer", 0}, {"byteLength", index_at}},
+                        {{"buffer", 0}, {"byteOffset", index_at}, {"byteLength", light_at - index_at}},
+                        {{"buffer", 0}, {"byteOffset", light_at}, {"byteLength", bin.size() - light_at}}};
+  doc["accessors"] = {{{"bufferView", 0}, {"componentType", 5126}, {"count", pos.size() / 3}, {"type", "VEC3"},
+                       {"min", {-0.5, 0.0, -0.5}}, {"max", {0.5, 0.5, 0.5}}},
+                      {{"bufferView", 1}, {"componentType", 5125}, {"count", index.size()}, {"type", "SCALAR"}},
+                      {{"bufferView", 2}, {"componentType", 5125}, {"count", light_index.size()}, {"type", "SCALAR"}}};
+  doc["materials"] = {{{"name", "floor"}, {"pbrMetallicRoughness", {{"baseColorFactor", {0.6, 0.6, 0.6, 1}}, {"metallicFactor", 0.0}}}},
+                      {{"name", "light"}, {"emissiveFactor", {1, 1, 1}}}};
+  doc["meshes"] = {{{"primitives", {{{"attributes", {{"POSITION", 0}}}, {"indices", 1}, {"material", 0}},
+                                    {{"attributes", {{"POSITION", 0}}}, {"indices", 2}, {"material", 1}}}}}};
+  doc["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 1.0}, {"znear", 0.01}}}}};
+  doc["nodes"] = {{{"mesh", 0}}, {{"camera", 0}, {"translation", {0.0, 0.3, 1.2}}}};
+  doc["scenes"] = {{{"nodes", {0, 1}}}};
+  doc["scene"] = 0;
+  const std::string path = dir + "/floor.gltf";
+  std::ofstream(path) << doc.dump();
+  return path;
+}
+
+TEST(Cli, PatchClustersMergeAFinelyTessellatedFloorAndSaySo) {
+  const std::string dir = fresh_dir("patch_clusters");
+  const std::string scene = write_tessellated_floor(dir);
+  auto render = [&](const std::string& clusters) {
+    CliResult r = run_cli("render " + scene + " --width 32 --height 24 --spp 2 --ratio 1/4 --patch-size 0.25" +
+                          clusters + " --out " + dir + "/f --stats " + dir + "/stats.json");
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    return std::make_pair(r.output, nlohmann::json::parse(std::ifstream(dir + "/stats.json")));
+  };
+  const auto [on_text, on] = render("");
+  const auto [off_text, off] = render(" --patch-clusters off");
+  // the light: two triangles of 0.28 m longest edge, k = 2, so 8 patches
+  EXPECT_EQ(off["patches"], 1152 + 8) << "one patch per floor triangle (all under 0.25 m) without clusters";
+  EXPECT_EQ(on["clustered_triangles"], 1152);
+  // 0.25 m across: blocks of 4 x 4 cells (0.236 m) of two patches each
+  EXPECT_EQ(on["patch_clusters"], 36);
+  EXPECT_EQ(on["patches"], 2 * 36 + 8);
+  EXPECT_NE(on_text.find("1152 of the triangles in 36 clusters"), std::string::npos) << on_text;
+  EXPECT_FALSE(off.contains("patch_clusters"));
 }
 
 TEST(Cli, TimeBudgetStopsTheRender) {

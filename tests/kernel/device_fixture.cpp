@@ -96,7 +96,7 @@ double parallel_rectangles_form_factor(double a, double b, double c) {
 
 CombinedRun render_combined(const Scene& scene, int width, int height, const CombinedSettings& cs) {
   const DeviceContext& device = test_device();
-  PatchLayout patches = build_patch_layout(scene, cs.patch_size);
+  PatchLayout patches = build_patch_layout(scene, cs.patch_size, cs.cluster_size);
   FlatBvh bvh = build_bvh(scene.triangles);
   BundleGeometry geometry = build_bundle_geometry(scene, patches);
   DeviceScene device_scene(device, scene, patches, bvh, cs.light_selection);
@@ -137,6 +137,25 @@ CombinedRun render_combined(const Scene& scene, int width, int height, const Com
   run.combined = run.pt;
   for (std::size_t i = 0; i < run.combined.rgb.size(); ++i) run.combined.rgb[i] += run.rb.rgb[i];
   return run;
+}
+
+Scene subdivide_non_emitters(const Scene& scene, std::uint32_t k) {
+  Scene out = scene;
+  out.triangles.clear();
+  for (const SceneTriangle& t : scene.triangles) {
+    if (scene.materials[t.material].emission != glm::vec3(0.0f)) {
+      out.triangles.push_back(t);
+      continue;
+    }
+    for (std::uint32_t local = 0; local < k * k; ++local) {
+      float b1[3], b2[3];
+      patch_corner_barycentrics(local, k, b1, b2);
+      SceneTriangle sub = t;
+      for (int c = 0; c < 3; ++c) sub.p[c] = t.p[0] + b1[c] * (t.p[1] - t.p[0]) + b2[c] * (t.p[2] - t.p[0]);
+      out.triangles.push_back(sub);
+    }
+  }
+  return out;
 }
 
 Scene make_glossy_light_box() {

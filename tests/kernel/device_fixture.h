@@ -63,6 +63,7 @@ struct CombinedSettings {
   std::uint64_t rounds = 16;
   std::uint32_t seed = 1, bins = 0, warmup = 16;
   float patch_size = 0.1f;
+  float cluster_size = 0.0f;  // > 0: patches clustered up to this diameter (scene/clusters.h)
   bool light_sampling = false;
   std::uint32_t beta_heuristic = BP_BETA_CLAMPED;
   float light_rate = 1.0f;  // RB's light-sample rate (light sampling)
@@ -71,6 +72,10 @@ struct CombinedSettings {
   std::uint32_t light_selection = BP_LIGHT_SELECTION_TREE;  // BP_LIGHT_SELECTION_*
 };
 CombinedRun render_combined(const Scene& scene, int width, int height, const CombinedSettings& settings);
+
+// Every triangle that emits nothing split into k^2 on its barycentric grid (patch.h): the same
+// surfaces, finely tessellated, for the clusters to merge back.
+Scene subdivide_non_emitters(const Scene& scene, std::uint32_t k);
 
 // A closed 1 m box seen from inside: glossy floor (kd 0.3, ks 0.5, n 30), grey Lambert walls, and a
 // 0.3 m square light (Le 8) just below the ceiling, facing down.

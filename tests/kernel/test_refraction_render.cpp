@@ -4,7 +4,7 @@
 // (1 - F)^2 tint^2 a / (1 - F^2 a^2)); every refraction and reflection is a delta vertex, PT's alone,
 // and RB sees the glass as opaque, so the combination with a glass block agrees with the path tracer.
 #include "kernel/device_fixture.h"
-#include "kernel/glass_power_test.h"
+#include "kernel/power_test.h"
 #include "kernels/shared/dielectric.h"
 
 #include <gtest/gtest.h>
@@ -158,7 +158,7 @@ Scene box_with_a_glass_block() {
   return scene;
 }
 
-// With the power to see a 2 % bias (glass_power_test.h): a refraction given a share to RB, which
+// With the power to see a 2 % bias (power_test.h): a refraction given a share to RB, which
 // cannot carry it, darkens the block and what is seen through it.
 TEST(RefractionRender, TheCombinationWithAGlassBlockMatchesThePathTracerWithThePowerToSeeTwoPercent) {
   expect_combination_matches_pt_with_power_to_see_two_percent(box_with_a_glass_block(), "box with a glass block");

@@ -4,7 +4,7 @@
 // factor), and the combination with a pane -- RB's bundles and eye rays through it, its light samples
 // through it, the pane's mirror PT's alone -- agrees with the path tracer.
 #include "kernel/device_fixture.h"
-#include "kernel/glass_power_test.h"
+#include "kernel/power_test.h"
 #include "kernel/region_test.h"
 #include "kernels/shared/thin_glass.h"
 #include "stats.h"
@@ -160,7 +160,7 @@ TEST(ThinGlassRender, TheCombinationThroughAPaneAgreesWithThePathTracer) {
   expect_combination_agrees_with_pt(scene, true, true, "light sampling, eye direct shared");
 }
 
-// The same box with the power to see a 2 % bias (glass_power_test.h): a pane's transmittance
+// The same box with the power to see a 2 % bias (power_test.h): a pane's transmittance
 // missing on RB's side, or its mirror given to RB, moves the image by more than 2 %.
 TEST(ThinGlassRender, TheCombinationThroughAPaneMatchesThePathTracerWithThePowerToSeeTwoPercent) {
   expect_combination_matches_pt_with_power_to_see_two_percent(box_with_a_pane(), "box with a pane");
