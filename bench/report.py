@@ -37,12 +37,14 @@ COLUMNS = {
               "rb_seconds_per_iteration", "reference", "reference_spp"],
     "scaling": ["series", "scene", "mode", "flags", "status", "triangles", "patches", "bins", "width", "height",
                 "render_seconds", "spp", "iterations", "ms_per_sample", "ms_per_iteration", "fragments_per_iteration",
-                "kernel_build_seconds", "load_seconds", "max_rss_mib", "device_mib", "bvh_build_seconds", "rel_mse"],
+                "kernel_build_seconds", "load_seconds", "max_rss_mib", "device_mib", "bvh_build_seconds", "rel_mse",
+                "patch_seconds", "pt_rel_mse", "combined_max_rss_mib"],
 }
 NUMERIC = {"budget_s", "render_seconds", "spp", "iterations", "rel_mse", "rmse", "mean_bias", "triangles", "patches",
            "bins", "width", "height", "reference_spp", "ms_per_sample", "ms_per_iteration", "fragments_per_iteration",
            "kernel_build_seconds", "load_seconds", "max_rss_mib", "device_mib", "ratio", "seed", "probe_seconds",
-           "pt_seconds_per_spp", "rb_seconds_per_iteration", "bvh_build_seconds"}
+           "pt_seconds_per_spp", "rb_seconds_per_iteration", "bvh_build_seconds", "patch_seconds", "pt_rel_mse",
+           "combined_max_rss_mib"}
 
 
 def fnum(x):
@@ -75,7 +77,7 @@ def cmd_append(args):
     path, study = args[0], args[1]
     cols = COLUMNS[study]
     row = {c: "" for c in cols}
-    stats_path = rss_path = error_stats_path = None
+    stats_path = rss_path = error_stats_path = pt_error_stats_path = error_rss_path = None
     status = "ok"
     rest = args[2:]
     i = 0
@@ -87,6 +89,10 @@ def cmd_append(args):
             rss_path = rest[i + 1]; i += 2
         elif a == "--error-stats":
             error_stats_path = rest[i + 1]; i += 2
+        elif a == "--pt-error-stats":
+            pt_error_stats_path = rest[i + 1]; i += 2
+        elif a == "--error-rss-kb":
+            error_rss_path = rest[i + 1]; i += 2
         elif a == "--status":
             status = rest[i + 1]; i += 2
         else:
@@ -100,7 +106,8 @@ def cmd_append(args):
         status = "no-stats"
     row["status"] = status
     for key in ("render_seconds", "spp", "iterations", "triangles", "patches", "bins", "width", "height",
-                "fragments_per_iteration", "kernel_build_seconds", "load_seconds", "bvh_build_seconds", "ratio"):
+                "fragments_per_iteration", "kernel_build_seconds", "load_seconds", "bvh_build_seconds", "ratio",
+                "patch_seconds"):
         if key in row and key in s and s[key] is not None:
             row[key] = s[key]
     for key in ("probe_seconds", "pt_seconds_per_spp", "rb_seconds_per_iteration"):  # --ratio auto's probe
@@ -115,6 +122,10 @@ def cmd_append(args):
         layer = read_stats(error_stats_path).get("reference", {}).get("layers", {}).get("combined")
         if layer:
             row["rel_mse"] = layer["rel_mse"]
+    if pt_error_stats_path:  # --mode pt's image is its "combined" layer
+        layer = read_stats(pt_error_stats_path).get("reference", {}).get("layers", {}).get("combined")
+        if layer:
+            row["pt_rel_mse"] = layer["rel_mse"]
     secs = fnum(s.get("render_seconds"))
     if "ms_per_sample" in row and secs and fnum(s.get("spp")):
         row["ms_per_sample"] = 1e3 * secs / float(s["spp"])
@@ -124,11 +135,12 @@ def cmd_append(args):
     if "device_mib" in row and fnum(s.get("scene_device_bytes")):
         # the scene's buffers plus the ray-bundle pass's own estimate of what it allocates
         row["device_mib"] = (float(s["scene_device_bytes"]) + float(s.get("rb_device_bytes_estimate") or 0)) / 2**20
-    if rss_path and "max_rss_mib" in row and os.path.exists(rss_path):
-        with open(rss_path) as f:
-            lines = [ln.strip() for ln in f if ln.strip().isdigit()]
-        if lines:
-            row["max_rss_mib"] = int(lines[-1]) / 1024.0
+    for path_kb, key in ((rss_path, "max_rss_mib"), (error_rss_path, "combined_max_rss_mib")):
+        if path_kb and key in row and os.path.exists(path_kb):
+            with open(path_kb) as f:
+                lines = [ln.strip() for ln in f if ln.strip().isdigit()]
+            if lines:
+                row[key] = int(lines[-1]) / 1024.0
     new = not os.path.exists(path) or os.path.getsize(path) == 0
     with open(path, "a", newline="") as f:
         w = csv.DictWriter(f, fieldnames=cols)
@@ -496,24 +508,28 @@ def house_table(series, rows):
     per iteration and the peak memory against the first row show what the triangles alone cost
     (the issue's bounds: at most 1.5x from 100 k to 1 M triangles, at most 1.5 GB at 1 M)."""
     md = [f"**{series}**", "",
-          "| scene | triangles | load s | BVH build s | patches | ms / RB iteration | × first row | "
-          "peak host MiB | combined relMSE vs PT |",
-          "|---|---|---|---|---|---|---|---|---|"]
+          "| scene | triangles | load s | BVH build s | patch layout s | patches | ms / RB iteration | × first row | "
+          "peak host MiB (RB) | relMSE combined | relMSE PT | combined / PT | peak host MiB (combined) |",
+          "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     first = None
     for r in rows:
         if r["status"] != "ok":
-            md.append(f"| {r['scene']} | {r['triangles'] or '–'} | {r['status']} | | | | | | |")
+            md.append(f"| {r['scene']} | {r['triangles'] or '–'} | {r['status']} |" + " |" * 10)
             continue
         ms_i = fnum(r["ms_per_iteration"])
         first = first or ms_i
+        combined, pt = fnum(r.get("rel_mse")), fnum(r.get("pt_rel_mse"))
         md.append(f"| {r['scene']} | {r['triangles']} | {fmt(fnum(r['load_seconds']), '.3g')} | "
-                  f"{fmt(fnum(r.get('bvh_build_seconds')), '.3g')} | {r['patches']} | {fmt(ms_i, '.3g')} | "
+                  f"{fmt(fnum(r.get('bvh_build_seconds')), '.3g')} | {fmt(fnum(r.get('patch_seconds')), '.3g')} | "
+                  f"{r['patches']} | {fmt(ms_i, '.3g')} | "
                   f"{fmt(ms_i / first if ms_i and first else None, '.2f')} | {fmt(fnum(r['max_rss_mib']), '.0f')} | "
-                  f"{fmt(fnum(r.get('rel_mse')), '.3g')} |")
+                  f"{fmt(combined, '.3g')} | {fmt(pt, '.3g')} | {fmt(combined / pt if combined and pt else None, '.2f')} | "
+                  f"{fmt(fnum(r.get('combined_max_rss_mib')), '.0f')} |")
     md += ["", f"RB: `{rows[0]['flags']}`, ms per iteration as `--stats` gives it (warm-up included). "
-           "Load and BVH build: `--stats`' `load_seconds` and `bvh_build_seconds`. The relMSE column "
-           "(`scaling.sh --house-error`): `--mode combined` at its defaults against the house's own "
-           "path-traced reference (full run: 30 s, 1024 spp at 640×360).", ""]
+           "Load, BVH build and patch layout (clusters included): `--stats`' `load_seconds`, `bvh_build_seconds` "
+           "and `patch_seconds`. The relMSE columns (`scaling.sh --house-error`): `--mode combined` at its "
+           "defaults and `--mode pt`, 30 s each, against one path-traced reference of the first row's house "
+           "(1024 spp at 640×360): every row is the same surfaces and lights, so the same image.", ""]
     return md
 
 

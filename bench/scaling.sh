@@ -8,18 +8,21 @@
 # tessellated to 100 k, 300 k, 1 M and 3 M triangles (rooms-lambert-N-r5: make_rooms --rooms 5), so
 # RB's cost follows the triangles alone: per row load and BVH build seconds, patches, RB ms per
 # iteration (--mode rb, --house-iterations iterations) and peak memory; with --house-error also the
-# default combination's relMSE after 30 s against the house's own path-traced reference (1024 spp,
-# rendered once and cached: bench_reference in bench/lib.sh; minutes per house on a CPU). --quick
-# makes it a 2 x 2-room house at 2 k and 8 k triangles.
+# relMSE after 30 s of the default combination and of --mode pt, with the combined run's peak memory,
+# against one path-traced reference of the first (smallest) house (1024 spp, rendered once and cached:
+# bench_reference in bench/lib.sh): every house of the series has the same surfaces and lights, so
+# the same image. --quick makes it a 2 x 2-room house at 2 k and 8 k triangles.
 #
 # Usage: bench/scaling.sh [--quick] [--out DIR] [--time SECONDS] [--house-only] [--house-error]
 #                         [--house-size WxH] [--house-iterations N] [--house-triangles "N N ..."]
+#                         [--house-flags "FLAGS"]
 #   --time S              seconds per row of the other series                        [4; quick 0.5]
 #   --house-only          only the "house at fixed rooms" series
 #   --house-error         add the combination-vs-PT column (a reference and a 30 s render per house)
 #   --house-size WxH      the house series' image                          [640x360; quick 32x18]
 #   --house-iterations N  RB iterations per house row (after the warm-up)          [32; quick 4]
 #   --house-triangles L   the triangle counts  ["100000 300000 1000000 3000000"; quick "2000 8000"]
+#   --house-flags F       more options for every render of the house series (e.g. --patch-clusters off)
 # Environment: see bench/lib.sh.
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
@@ -27,7 +30,7 @@ here=$(cd "$(dirname "$0")" && pwd)
 source "$here/lib.sh"
 
 quick=0; out=""; seconds=4; house_only=0; house_error=0
-house_size=""; house_iterations=""; house_triangles=""
+house_size=""; house_iterations=""; house_triangles=""; house_flags=""
 while [ $# -gt 0 ]; do
   case $1 in
     --quick) quick=1 ;;
@@ -38,7 +41,8 @@ while [ $# -gt 0 ]; do
     --house-size) house_size=$2; shift ;;
     --house-iterations) house_iterations=$2; shift ;;
     --house-triangles) house_triangles=$2; shift ;;
-    -h|--help) sed -n '2,23p' "$0"; exit 0 ;;
+    --house-flags) house_flags=$2; shift ;;
+    -h|--help) sed -n '2,26p' "$0"; exit 0 ;;
     *) echo "scaling.sh: unknown option $1" >&2; exit 2 ;;
   esac
   shift
@@ -91,9 +95,11 @@ elif [ $house_only -eq 0 ]; then
 fi
 [ $quick -eq 1 ] && seconds=0.5 && out=${out:-$bench_root/bench-out/quick}
 house_series="house at fixed rooms (RB, ${house_rooms}×${house_rooms} Lambert rooms, ${house_size/x/×})"
+[ -n "$house_flags" ] && house_series="$house_series, $house_flags"
 for n in $house_triangles; do
-  ROWS+=("$house_series|rooms-lambert-$n-r$house_rooms|--mode rb --iterations $house_iterations|$house_size")
+  ROWS+=("$house_series|rooms-lambert-$n-r$house_rooms|--mode rb --iterations $house_iterations${house_flags:+ $house_flags}|$house_size")
 done
+house_first=$(set -- $house_triangles; echo "$1")
 out=${out:-$bench_root/bench/results}
 mkdir -p "$out"
 csv=$out/scaling.csv
@@ -115,7 +121,7 @@ for row in "${ROWS[@]}"; do
   budget=(--time "$seconds")
   case " $flags " in *" --iterations "*|*" --spp "*) budget=() ;; esac
   echo "scaling: $name $flags ${wh[1]}x${wh[3]}" >&2
-  rm -f "$tmp/s.json" "$tmp/rss.txt" "$tmp/e.json"
+  rm -f "$tmp/s.json" "$tmp/rss.txt" "$tmp/c.json"
   rc=0
   # shellcheck disable=SC2086
   "${timer[@]}" "$BUNDLEPATH" render "$scene" $flags "${wh[@]}" "${budget[@]}" \
@@ -123,12 +129,19 @@ for row in "${ROWS[@]}"; do
   status=ok; [ $rc -eq 0 ] || status=exit-$rc
   error=()
   if [ $house_error -eq 1 ] && [ "$series" = "$house_series" ]; then
-    # The default combination against the house's own path-traced reference (cached, resumable).
-    ref=$(bench_reference "$scene" "$house_ref_spp" "$size")
-    echo "scaling: $name --mode combined ${wh[1]}x${wh[3]} ${house_error_seconds} s against $(basename "$ref")" >&2
-    bench_render "$scene" --mode combined "${wh[@]}" --time "$house_error_seconds" --reference "$ref" \
-      --out "$tmp/img" --stats "$tmp/e.json" 2>>"$log" || echo "scaling: the combined render of $name failed" >&2
-    error=(--error-stats "$tmp/e.json")
+    # The default combination and the path tracer against the first house's path-traced reference
+    # (cached, resumable).
+    ref=$(bench_reference "$(bench_scene "rooms-lambert-$house_first-r$house_rooms")" "$house_ref_spp" "$size")
+    rm -f "$tmp/p.json" "$tmp/rss-e.txt"
+    for mode in combined pt; do
+      echo "scaling: $name --mode $mode ${wh[1]}x${wh[3]} ${house_error_seconds} s against $(basename "$ref")" >&2
+      timed=(); [ $mode = combined ] && [ ${#timer[@]} -gt 0 ] && timed=(/usr/bin/time -f "%M" -o "$tmp/rss-e.txt")
+      # shellcheck disable=SC2086
+      "${timed[@]}" "$BUNDLEPATH" render "$scene" --mode $mode "${wh[@]}" --time "$house_error_seconds" --reference "$ref" $house_flags \
+        "${dev[@]}" --out "$tmp/img" --stats "$tmp/${mode:0:1}.json" 2>>"$log" ||
+        echo "scaling: the $mode render of $name failed" >&2
+    done
+    error=(--error-stats "$tmp/c.json" --pt-error-stats "$tmp/p.json" --error-rss-kb "$tmp/rss-e.txt")
   fi
   # shellcheck disable=SC2086
   mode=$(set -- $flags; echo "$2")

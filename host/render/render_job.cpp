@@ -272,7 +272,7 @@ void render_rounds(RenderState& s, RenderObserver& observer) {
   s.ranks.wait_for_all();
   observer.started();
   const PatchClusters& clusters = s.scene.patches.clusters;
-  const std::string clustered = o.patch_clusters ? printf_text(" (%zu of the triangles in %zu clusters)",
+  const std::string clustered = clusters.clusters > 0 ? printf_text(" (%zu of the triangles in %zu clusters)",
                                                                clusters.clustered_triangles, clusters.clusters)
                                                  : "";
   observer.note(printf_text("rendering %s (%dx%d, %s%s, %zu triangles, %u patches%s) on %s", o.scene.c_str(),
