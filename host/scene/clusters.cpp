@@ -227,24 +227,28 @@ PatchClusters build_patch_clusters(const Scene& scene, float max_size) {
     }
     // Growth: from a convex union (its hull) any neighbour may start an excursion; while the union is
     // not convex only a triangle within the hull (filling it) or reaching into it joins. A convex state
-    // is kept; an excursion that cannot return to one is undone and its first triangle barred, so a
-    // grid grows by whole rows and columns into rectangles.
+    // is kept; an excursion that cannot return to one is undone and its triangles barred, so a grid
+    // grows by whole rows and columns into rectangles.
     struct Convex {
       std::size_t members;
       std::vector<HullPoint> hull;
       double area;
     } kept{1, g.hull, g.area};
-    std::uint32_t excursion = kNone;
+    std::vector<std::uint32_t> near;  // not convex: the last joined triangle's candidate neighbours, tried first
     for (;;) {
       const bool convex = polygon_area(g.hull) <= g.area * (1.0 + kConvexAreaSlack);
       if (convex) {
         kept = {g.members.size(), g.hull, g.area};
-        excursion = kNone;
+        std::erase_if(frontier, [&](std::uint32_t t) { return member[t] == seed || barred[t] == seed; });
       }
-      std::erase_if(frontier, [&](std::uint32_t t) { return member[t] == seed || barred[t] == seed; });
+      near.clear();
+      if (!convex)
+        for (std::uint32_t i = adj.start[g.members.back()]; i < adj.start[g.members.back() + 1]; ++i)
+          near.push_back(adj.adjacent[i]);
       bool joined = false;
-      for (std::size_t pass = 0; pass < 2 && !joined; ++pass) {  // (not convex: fills first, then reaches)
-        for (std::uint32_t t : frontier) {
+      for (std::size_t pass = 0; pass < 4 && !joined; ++pass) {  // (not convex: fills first, then reaches)
+        for (std::uint32_t t : pass < 2 ? near : frontier) {
+          if (seen[t] != seed || member[t] == seed || barred[t] == seed) continue;  // not a candidate (now)
           int within = 0, strictly = 0;  // corners inside or on the hull, strictly inside
           for (const glm::vec3& p : scene.triangles[t].p) {
             const HullPoint q = g.in_plane(p);
@@ -257,8 +261,7 @@ PatchClusters build_patch_clusters(const Scene& scene, float max_size) {
               barred[t] = seed;
               continue;
             }
-            excursion = t;
-          } else if (pass == 0) {
+          } else if (pass % 2 == 0) {
             if (within < 3) continue;
             hull = g.hull;
             if (g.area + triangle_area(t) > polygon_area(hull) * (1.0 + kConvexAreaSlack)) {  // overlapping
@@ -272,18 +275,19 @@ PatchClusters build_patch_clusters(const Scene& scene, float max_size) {
           joined = true;
           break;
         }
-        if (convex) break;
+        if (convex && pass >= 2) break;
       }
       if (joined) continue;
       if (convex) break;
-      for (std::size_t i = kept.members; i < g.members.size(); ++i) {  // undo
+      // undo, barring the excursion's triangles (another excursion through them would end the same
+      // way, and retrying each would make a side's failure quadratic)
+      for (std::size_t i = kept.members; i < g.members.size(); ++i) {
         member[g.members[i]] = kNone;
-        frontier.push_back(g.members[i]);
+        barred[g.members[i]] = seed;
       }
       g.members.resize(kept.members);
       g.hull = kept.hull;
       g.area = kept.area;
-      barred[excursion] = seed;
     }
     if (g.members.size() < 2) continue;
     const std::uint32_t first = std::uint32_t(out.fans.size()), count = std::uint32_t(g.hull.size() - 2);
