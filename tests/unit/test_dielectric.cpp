@@ -87,7 +87,9 @@ TEST(Dielectric, EachEventsFactorOverItsProbabilityAveragesToItsWeight) {
       EXPECT_NEAR(refracted.z, expected.z, 1e-3f * expected.z + 1e-7f) << entering << " " << theta;
       EXPECT_NEAR(mirrored, fresnel * transmission, 1e-3 * fresnel * transmission) << entering << " " << theta;
       EXPECT_NEAR(rested, 1.0, 1e-3) << entering << " " << theta;
-      if (!entering && theta > std::asin(1.0f / ior)) EXPECT_EQ(refracted.x, 0.0f);
+      if (!entering && theta > std::asin(1.0f / ior)) {
+        EXPECT_EQ(refracted.x, 0.0f);
+      }
     }
 }
 
