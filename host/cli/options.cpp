@@ -109,6 +109,9 @@ scene and light:
                       material merged into convex patches (at most --patch-size across, else
                       the scene diagonal / 80), so a finely tessellated scene costs what its
                       surfaces need, not its triangle count                          [on]
+  --patch-refine on|off  on: patches that a light's shadow edge crosses (seen by shadow rays
+                      from their corners) are split up to twice, halving their edges, until
+                      the patch count has doubled                                   [off]
   --no-light-sampling turn light sampling off (then point, spot and directional lights stay
                       dark, and emitters are found by BSDF sampling and bundles alone)
 
@@ -320,6 +323,10 @@ RenderOptions parse_render_options(const std::vector<std::string>& args) {
       {"--patch-clusters", [&](auto& k, auto& v) {
          if (v != "on" && v != "off") throw UsageError(k + ": expected on or off (got '" + v + "')");
          o.patch_clusters = v == "on";
+       }},
+      {"--patch-refine", [&](auto& k, auto& v) {
+         if (v != "on" && v != "off") throw UsageError(k + ": expected on or off (got '" + v + "')");
+         o.patch_refine = v == "on";
        }},
       {"--stats", [&](auto&, auto& v) { o.stats_path = v; }},
       {"--camera", [&](auto& k, auto& v) {

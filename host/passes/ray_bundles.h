@@ -57,7 +57,8 @@ struct RayBundleSettings {
 
 // Bins per side so that an element of average area covers `bins_per_element` bins on average
 // (its mean projected area is half its area, over directions uniform on the sphere).
-std::uint32_t default_bins(const BundleSize& size, double bins_per_element = 4.0);
+inline constexpr double kDefaultBinsPerElement = 4.0;
+std::uint32_t default_bins(const BundleSize& size, double bins_per_element = kDefaultBinsPerElement);
 
 // The rate at which a patch traces its light sample in an iteration (light sampling, DESIGN.md §3):
 // about as many shadow rays per iteration as the image has pixels, and every patch on scenes with

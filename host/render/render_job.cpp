@@ -272,9 +272,13 @@ void render_rounds(RenderState& s, RenderObserver& observer) {
   s.ranks.wait_for_all();
   observer.started();
   const PatchClusters& clusters = s.scene.patches.clusters;
-  const std::string clustered = clusters.clusters > 0 ? printf_text(" (%zu of the triangles in %zu clusters)",
-                                                               clusters.clustered_triangles, clusters.clusters)
-                                                 : "";
+  std::string clustered = clusters.clusters > 0 ? printf_text(" (%zu of the triangles in %zu clusters)",
+                                                         clusters.clustered_triangles, clusters.clusters)
+                                           : "";
+  const LightRefinementResult& refined = s.scene.refinement;
+  if (refined.refined_triangles > 0)
+    clustered += printf_text(" (%u before %zu triangles were split where shadows cross them%s)", refined.patches_before,
+                             refined.refined_triangles, refined.budget_reached ? ", up to the budget" : "");
   observer.note(printf_text("rendering %s (%dx%d, %s%s, %zu triangles, %u patches%s) on %s", o.scene.c_str(),
                             s.scene.width, s.scene.height, o.mode.c_str(),
                             s.shape ? (", weights " + o.weights).c_str() : "", s.scene.scene.triangles.size(),

@@ -180,7 +180,10 @@ void build_passes(RenderState& s) {
     const BundleSize size = bundle_size(scene, s.scene.patches);
     RayBundleSettings& rb = s.rb_settings;
     rb.seed = rank_chain_seed(o.seed, s.ranks.rank());  // a chain of its own on each rank
-    rb.bins = o.bins ? o.bins : default_bins(size);
+    // --patch-refine's patches are local: the buffer keeps the bins of the layout before it
+    const LightRefinementResult& refined = s.scene.refinement;
+    const double unrefined_share = refined.patches_before > 0 ? double(refined.patches_before) / s.scene.patches.patch_count : 1.0;
+    rb.bins = o.bins ? o.bins : default_bins(size, kDefaultBinsPerElement * unrefined_share);
     if (o.contact_depth >= 0.0f) rb.contact_depth_fraction = o.contact_depth;
     rb.warmup = o.warmup;
     rb.directions = o.rb_directions == "independent" ? DirectionSequence::independent : DirectionSequence::stratified;

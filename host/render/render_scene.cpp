@@ -74,6 +74,15 @@ RenderScene prepare_scene(const RenderSpec& o, const std::function<void(const st
   auto t_bvh = clock::now();
   s.bvh = build_bvh(scene.triangles);
   s.bvh_seconds = seconds_since(t_bvh);
+  if (o.patch_refine && o.mode != "pt") {  // the path tracer alone reads no patch's light
+    const auto t_refine = clock::now();
+    try {
+      s.refinement = refine_patches_by_light(scene, s.patches, s.bvh, light_refinement_options(scene, s.patches));
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(e.what());
+    }
+    s.patch_seconds += seconds_since(t_refine);
+  }
   return s;
 }
 

@@ -238,6 +238,11 @@ nlohmann::json render_stats(const RenderState& s, const RenderResult& r) {
   stats["patches"] = s.scene.patches.patch_count;
   stats["patch_size"] = s.scene.patch_size;
   stats["patch_seconds"] = s.scene.patch_seconds;
+  if (o.patch_refine && o.mode != "pt") {
+    stats["patch_refined_triangles"] = s.scene.refinement.refined_triangles;
+    stats["patches_before_refinement"] = s.scene.refinement.patches_before;
+    stats["patch_refine_budget_reached"] = s.scene.refinement.budget_reached;
+  }
   if (o.patch_clusters) {
     stats["patch_clusters"] = s.scene.patches.clusters.clusters;
     stats["clustered_triangles"] = s.scene.patches.clusters.clustered_triangles;

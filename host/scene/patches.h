@@ -50,6 +50,10 @@ float default_cluster_size(const Scene& scene);
 // clusters of diameter at most cluster_size first (build_patch_clusters).
 PatchLayout build_patch_layout(const Scene& scene, float target_size, float cluster_size = 0.0f);
 
+// first_patch and patch_count from subdiv (after a change to subdiv: refine_patches_by_light).
+// Throws std::invalid_argument past 2^31 patches.
+void number_patches(const Scene& scene, PatchLayout& layout);
+
 // One patch-level sub-triangle of a scene triangle, as the host-side builders (RB's elements, the
 // light tree's receivers) walk them: corner c is parent.p[0] + b1[c] e1 + b2[c] e2.
 struct SubTriangle {

@@ -21,7 +21,7 @@ TEST(Cli, HelpDocumentsEveryRenderOption) {
   CliResult r = run_cli("render --help");
   EXPECT_EQ(r.exit_code, 0);
   for (const char* opt : {"--out", "--width", "--height", "--spp", "--time", "--seed", "--device", "--mode",
-                          "--patch-size", "--patch-clusters", "--stats", "--no-light-sampling", "--kernels", "--environment",
+                          "--patch-size", "--patch-clusters", "--patch-refine", "--stats", "--no-light-sampling", "--kernels", "--environment",
                           "--environment FILE.exr", "8192x4096"})
     EXPECT_NE(r.output.find(opt), std::string::npos) << opt;
   EXPECT_EQ(run_cli("--help").exit_code, 0);
@@ -39,6 +39,7 @@ TEST(Cli, UsageErrorsExitTwoAndNameTheOption) {
       {"render " + kScenes + "cornell-box.gltf --mode xyz", "--mode"},
       {"render " + kScenes + "cornell-box.gltf --patch-size 0", "--patch-size"},
       {"render " + kScenes + "cornell-box.gltf --patch-clusters maybe", "--patch-clusters"},
+      {"render " + kScenes + "cornell-box.gltf --patch-refine 2", "--patch-refine"},
       {"render " + kScenes + "cornell-box.gltf --spp", "--spp"},
       {"render " + kScenes + "cornell-box.gltf --kernels fast", "--kernels"},
       {"render " + kScenes + "cornell-box.gltf --environment 1,2", "--environment"},
@@ -546,6 +547,31 @@ TEST(Cli, PatchClustersMergeAFinelyTessellatedFloorAndSaySo) {
   EXPECT_EQ(on["patches"], 2 * 36 + 8);
   EXPECT_NE(on_text.find("1152 of the triangles in 36 clusters"), std::string::npos) << on_text;
   EXPECT_FALSE(off.contains("patch_clusters"));
+}
+
+// The Cornell box's boxes cast the ceiling light's shadows on the floor and walls: --patch-refine on
+// splits the triangles those shadow edges cross, within twice the patches, and says so; off (the
+// default) and --mode pt (which reads no patch's light) leave the layout alone.
+TEST(Cli, PatchRefineSplitsWhereTheBoxesShadowsFallAndSaysSo) {
+  const std::string dir = fresh_dir("patch_refine");
+  auto render = [&](const std::string& options) {
+    CliResult r = run_cli("render " + kScenes + "cornell-box.gltf --width 32 --height 32 --spp 1 " + options +
+                          " --out " + dir + "/c --stats " + dir + "/stats.json");
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    return std::make_pair(r.output, nlohmann::json::parse(std::ifstream(dir + "/stats.json")));
+  };
+  const auto [on_text, on] = render("--ratio 1 --patch-refine on");
+  const auto [off_text, off] = render("--ratio 1");
+  const auto [pt_text, pt] = render("--mode pt --patch-refine on");
+  EXPECT_EQ(on["patches_before_refinement"], off["patches"]);
+  EXPECT_GT(on["patch_refined_triangles"].get<int>(), 0);
+  EXPECT_GT(on["patches"].get<int>(), off["patches"].get<int>());
+  EXPECT_LE(on["patches"].get<int>(), 2 * off["patches"].get<int>());
+  EXPECT_EQ(on["bins"], off["bins"]) << "the buffer keeps the unrefined layout's bins";
+  EXPECT_NE(on_text.find("triangles were split where shadows cross them"), std::string::npos) << on_text;
+  EXPECT_EQ(off_text.find("split where shadows"), std::string::npos) << off_text;
+  EXPECT_FALSE(off.contains("patch_refined_triangles"));
+  EXPECT_EQ(pt["patches"], off["patches"]);
 }
 
 TEST(Cli, TimeBudgetStopsTheRender) {
