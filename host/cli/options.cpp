@@ -109,9 +109,10 @@ scene and light:
                       material merged into convex patches (at most --patch-size across, else
                       the scene diagonal / 80), so a finely tessellated scene costs what its
                       surfaces need, not its triangle count                          [on]
-  --patch-refine on|off  on: patches that a light's shadow edge crosses (seen by shadow rays
-                      from their corners) are split up to twice, halving their edges, until
-                      the patch count has doubled                                   [off]
+  --patch-refine on|off  on: patches that a sharp shadow's edge crosses (a point, spot or sun
+                      light's, or a small emitter's; seen by shadow rays from their corners)
+                      are split up to twice, halving their edges, until the patch count has
+                      doubled                                                        [on]
   --no-light-sampling turn light sampling off (then point, spot and directional lights stay
                       dark, and emitters are found by BSDF sampling and bundles alone)
 

@@ -87,7 +87,7 @@ struct Sampler {
         Rng rng = rng_init(kRefinementSeed, std::uint32_t(t) * 2u + std::uint32_t(side), j);
         const float u_pick = rng_uniform(&rng), u1 = rng_uniform(&rng), u2 = rng_uniform(&rng);
         const LightPick pick = light_select(&set, 0u, u_pick);
-        if (lights.lights[pick.light].type == BP_LIGHT_ENVIRONMENT) continue;  // soft: left to the patches
+        if (casts_soft_shadows(lights.lights[pick.light], centroid)) continue;  // left to the patches
         draws.push_back({pick, u1, u2});
       }
       if (draws.empty()) continue;
@@ -118,6 +118,15 @@ struct Sampler {
 };
 
 }  // namespace
+
+bool casts_soft_shadows(const Light& l, const glm::vec3& at) {
+  if (l.type == BP_LIGHT_ENVIRONMENT) return true;
+  if (l.type != BP_LIGHT_TRIANGLE) return false;
+  const glm::vec3 p(l.position[0], l.position[1], l.position[2]);
+  const glm::vec3 e1(l.edge1[0], l.edge1[1], l.edge1[2]), e2(l.edge2[0], l.edge2[1], l.edge2[2]);
+  const float width = std::max({glm::length(e1), glm::length(e2), glm::length(e1 - e2)});
+  return width > kSharpShadowRatio * glm::length(p + (e1 + e2) / 3.0f - at);
+}
 
 double shadowed_share(const double* unshadowed, const std::uint8_t* visible, std::size_t samples, std::size_t points) {
   double shadowed = 0.0, lit = 0.0;

@@ -4,6 +4,7 @@
 // on the host before the render, from the scene alone: the layout is a pure function of the scene
 // and the options (checkpoints, ranks and walkthroughs see the same patches).
 #pragma once
+#include "kernels/shared/lights.h"
 #include "scene/bvh.h"
 #include "scene/patches.h"
 #include "scene/scene.h"
@@ -12,6 +13,10 @@
 #include <cstdint>
 
 namespace bp {
+
+// Emitting triangles wider than this times their distance cast soft shadows, which refinement
+// leaves to the patches (casts_soft_shadows).
+inline constexpr float kSharpShadowRatio = 0.1f;
 
 struct LightRefinementOptions {
   std::uint32_t levels = 2;        // each level halves a refined triangle's patches' edges
@@ -40,6 +45,13 @@ double shadowed_share(const double* unshadowed, const std::uint8_t* visible, std
 inline constexpr float kMinPatchFraction = 640.0f;
 inline constexpr std::uint64_t kPatchBudgetFactor = 2;
 LightRefinementOptions light_refinement_options(const Scene& scene, const PatchLayout& layout);
+
+// Whether a light's shadows on a receiver at `at` are soft, so that refinement leaves them to the
+// patches: the environment, and an emitting triangle wider than kSharpShadowRatio times its
+// distance, whose penumbrae are wide wherever the occluder is not at the receiver (measured: the
+// house's ceiling panels gain nothing from finer patches, docs/results.md). Points, spots and suns
+// cast sharp shadows.
+bool casts_soft_shadows(const Light& light, const glm::vec3& at);
 
 // Splits (subdiv *= 2, per level) every patch triangle with a patch whose shadowed_share exceeds
 // options.split_above while the budget lasts, first those whose split makes the most shadowed

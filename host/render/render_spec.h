@@ -61,7 +61,7 @@ struct RenderSpec {
   std::string resume_path;       // --resume FILE: continue a checkpointed render
   float patch_size = 0.0f;       // metres; 0: derived from the scene's extent
   bool patch_clusters = true;    // --patch-clusters: merge flat triangles into clusters (scene/clusters.h)
-  bool patch_refine = false;     // --patch-refine: split patches where the direct light's shadows cross them
+  bool patch_refine = true;      // --patch-refine: split patches where the direct light's shadows cross them
   std::string stats_path;
   float exposure = 0.0f;         // PNG exposure in stops
   std::array<float, 3> environment{0.0f, 0.0f, 0.0f};  // --environment R,G,B: uniform radiance, W sr^-1 m^-2

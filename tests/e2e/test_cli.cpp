@@ -549,20 +549,20 @@ TEST(Cli, PatchClustersMergeAFinelyTessellatedFloorAndSaySo) {
   EXPECT_FALSE(off.contains("patch_clusters"));
 }
 
-// The Cornell box's boxes cast the ceiling light's shadows on the floor and walls: --patch-refine on
-// splits the triangles those shadow edges cross, within twice the patches, and says so; off (the
-// default) and --mode pt (which reads no patch's light) leave the layout alone.
-TEST(Cli, PatchRefineSplitsWhereTheBoxesShadowsFallAndSaysSo) {
+// Blender's point-light scene: the lamp's shadows fall on the floor and walls, and --patch-refine (on
+// by default) splits the triangles those shadow edges cross, within twice the patches, and says so;
+// off and --mode pt (which reads no patch's light) leave the layout alone.
+TEST(Cli, PatchRefineSplitsWhereALampsShadowsFallAndSaysSo) {
   const std::string dir = fresh_dir("patch_refine");
   auto render = [&](const std::string& options) {
-    CliResult r = run_cli("render " + kScenes + "cornell-box.gltf --width 32 --height 32 --spp 1 " + options +
+    CliResult r = run_cli("render " + kScenes + "blender-point-light.gltf --width 32 --height 24 --spp 1 " + options +
                           " --out " + dir + "/c --stats " + dir + "/stats.json");
     EXPECT_EQ(r.exit_code, 0) << r.output;
     return std::make_pair(r.output, nlohmann::json::parse(std::ifstream(dir + "/stats.json")));
   };
-  const auto [on_text, on] = render("--ratio 1 --patch-refine on");
-  const auto [off_text, off] = render("--ratio 1");
-  const auto [pt_text, pt] = render("--mode pt --patch-refine on");
+  const auto [on_text, on] = render("--ratio 1");
+  const auto [off_text, off] = render("--ratio 1 --patch-refine off");
+  const auto [pt_text, pt] = render("--mode pt");
   EXPECT_EQ(on["patches_before_refinement"], off["patches"]);
   EXPECT_GT(on["patch_refined_triangles"].get<int>(), 0);
   EXPECT_GT(on["patches"].get<int>(), off["patches"].get<int>());

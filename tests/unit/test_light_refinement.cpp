@@ -23,6 +23,21 @@ TEST(ShadowedShare, IsTheShareOfTheLightThatSomePointsMiss) {
   EXPECT_DOUBLE_EQ(shadowed_share(behind, three, 1, 4), 0.0);
 }
 
+TEST(LightRefinement, LeavesTheSoftShadowsOfWideEmittersToThePatches) {
+  Light panel{};
+  panel.type = BP_LIGHT_TRIANGLE;
+  panel.edge1[0] = 0.5f;  // a 0.5 m triangle at the origin
+  panel.edge2[1] = 0.5f;
+  EXPECT_TRUE(casts_soft_shadows(panel, glm::vec3(0.2f, 0.2f, -2.0f)));    // 2 m away: 0.25 of it
+  EXPECT_FALSE(casts_soft_shadows(panel, glm::vec3(0.2f, 0.2f, -20.0f)));  // 20 m: 0.025
+  Light lamp{};
+  lamp.type = BP_LIGHT_POINT;
+  EXPECT_FALSE(casts_soft_shadows(lamp, glm::vec3(0.0f, 0.0f, -0.1f)));
+  Light sky{};
+  sky.type = BP_LIGHT_ENVIRONMENT;
+  EXPECT_TRUE(casts_soft_shadows(sky, glm::vec3(0.0f)));
+}
+
 // A 4 x 4 m floor (two triangles, each split k = 2 by --patch-size 3) under a point light 2 m up,
 // and a 0.5 m square "table top" 0.5 m above the floor's centre, facing up, that shades part of it.
 Scene floor_under_a_table(bool with_table) {
