@@ -74,7 +74,7 @@ RenderScene prepare_scene(const RenderSpec& o, const std::function<void(const st
   auto t_bvh = clock::now();
   s.bvh = build_bvh(scene.triangles);
   s.bvh_seconds = seconds_since(t_bvh);
-  if (o.patch_refine && o.mode != "pt") {  // the path tracer alone reads no patch's light
+  if (patch_refinement_applies(o)) {
     const auto t_refine = clock::now();
     try {
       s.refinement = refine_patches_by_light(scene, s.patches, s.bvh, light_refinement_options(scene, s.patches));

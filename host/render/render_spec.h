@@ -78,6 +78,10 @@ struct RenderSpec {
 // sum keep the paper's two estimators.
 bool light_sampling_applies(const RenderSpec& o);
 
+// Whether --patch-refine splits patches in this render: asked for, and a mode with ray bundles (the
+// path tracer alone reads no patch's light).
+bool patch_refinement_applies(const RenderSpec& o);
+
 // --rb-level corrected or regional (image/rb_level.h): --mode combined with product weights, whose PT
 // samples also estimate RB's share (PT's unweighted less its weighted image); --ratio 0 has no PT to ask.
 inline bool rb_level_corrected(const RenderSpec& o) {

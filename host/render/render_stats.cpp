@@ -238,7 +238,7 @@ nlohmann::json render_stats(const RenderState& s, const RenderResult& r) {
   stats["patches"] = s.scene.patches.patch_count;
   stats["patch_size"] = s.scene.patch_size;
   stats["patch_seconds"] = s.scene.patch_seconds;
-  if (o.patch_refine && o.mode != "pt") {
+  if (patch_refinement_applies(o)) {
     stats["patch_refined_triangles"] = s.scene.refinement.refined_triangles;
     stats["patches_before_refinement"] = s.scene.refinement.patches_before;
     stats["patch_refine_budget_reached"] = s.scene.refinement.budget_reached;
