@@ -112,7 +112,10 @@ scene and light:
   --patch-refine on|off  on: patches that a sharp shadow's edge crosses (a point, spot or sun
                       light's, or a small emitter's; seen by shadow rays from their corners)
                       are split up to twice, halving their edges, until the patch count has
-                      doubled                                                        [on]
+                      doubled (or reached --patches)                                 [on]
+  --patches N         the most patches --patch-refine may bring the layout to; below what
+                      clusters and --patch-size give, nothing is split (a larger --patch-size
+                      coarsens)                                      [twice the unrefined count]
   --no-light-sampling turn light sampling off (then point, spot and directional lights stay
                       dark, and emitters are found by BSDF sampling and bundles alone)
 
@@ -328,6 +331,9 @@ RenderOptions parse_render_options(const std::vector<std::string>& args) {
       {"--patch-refine", [&](auto& k, auto& v) {
          if (v != "on" && v != "off") throw UsageError(k + ": expected on or off (got '" + v + "')");
          o.patch_refine = v == "on";
+       }},
+      {"--patches", [&](auto& k, auto& v) {
+         o.patch_budget = parse_number<std::uint64_t>(k, v, 1, 1ull << 31, "a patch count in 1..2^31");
        }},
       {"--stats", [&](auto&, auto& v) { o.stats_path = v; }},
       {"--camera", [&](auto& k, auto& v) {

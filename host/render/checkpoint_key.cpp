@@ -12,6 +12,7 @@ std::string options_key(const RenderSpec& o, int width, int height, float patch_
                     ";seed=" + std::to_string(o.seed) + ";patch_size=" + std::to_string(patch_size) +
                     ";patch_clusters=" + (o.patch_clusters ? "on" : "off") +
                     ";patch_refine=" + (o.patch_refine ? "on" : "off") +
+                    (o.patch_budget > 0 ? ";patches=" + std::to_string(o.patch_budget) : "") +
                     ";max_depth=" + std::to_string(o.max_depth) + ";layers=" + (o.all_layers ? "all" : "default") +
                     ";light_sampling=" + (light_sampling_applies(o) ? "on;light_selection=" + o.light_selection : "off") +
                     ";kernels=" + (o.generic_kernels ? "generic" : "specialised");

@@ -151,7 +151,7 @@ double shadowed_share(const double* unshadowed, const std::uint8_t* visible, std
 LightRefinementOptions light_refinement_options(const Scene& scene, const PatchLayout& layout) {
   LightRefinementOptions o;
   o.min_patch_size = glm::length(scene.bounds.extent()) / kMinPatchFraction;
-  o.max_patches = kPatchBudgetFactor * std::uint64_t(layout.patch_count);
+  o.max_patches = std::min(kPatchBudgetFactor * std::uint64_t(layout.patch_count), std::uint64_t(1) << 31);
   return o;
 }
 

@@ -74,10 +74,20 @@ RenderScene prepare_scene(const RenderSpec& o, const std::function<void(const st
   auto t_bvh = clock::now();
   s.bvh = build_bvh(scene.triangles);
   s.bvh_seconds = seconds_since(t_bvh);
+  if (o.patch_budget > 0 && !patch_refinement_applies(o))
+    note(std::string("warning: --patches is --patch-refine's budget, and this render splits no patch (") +
+         (o.patch_refine ? "--mode pt reads no patch's light" : "--patch-refine off") + ")");
   if (patch_refinement_applies(o)) {
     const auto t_refine = clock::now();
     try {
-      s.refinement = refine_patches_by_light(scene, s.patches, s.bvh, light_refinement_options(scene, s.patches));
+      LightRefinementOptions refine = light_refinement_options(scene, s.patches);
+      if (o.patch_budget > 0) refine.max_patches = o.patch_budget;
+      if (o.patch_budget > 0 && o.patch_budget <= s.patches.patch_count)
+        note("warning: --patches " + std::to_string(o.patch_budget) + " is not above the " +
+             std::to_string(s.patches.patch_count) + " patches that " +
+             (o.patch_clusters ? "clusters and " : "") + "the patch size give: nothing is split "
+             "(a larger --patch-size makes fewer patches)");
+      s.refinement = refine_patches_by_light(scene, s.patches, s.bvh, refine);
     } catch (const std::invalid_argument& e) {
       throw UsageError(e.what());
     }

@@ -62,6 +62,7 @@ struct RenderSpec {
   float patch_size = 0.0f;       // metres; 0: derived from the scene's extent
   bool patch_clusters = true;    // --patch-clusters: merge flat triangles into clusters (scene/clusters.h)
   bool patch_refine = true;      // --patch-refine: split patches where the direct light's shadows cross them
+  std::uint64_t patch_budget = 0;  // --patches: the most patches refinement may reach; 0: kPatchBudgetFactor x unrefined
   std::string stats_path;
   float exposure = 0.0f;         // PNG exposure in stops
   std::array<float, 3> environment{0.0f, 0.0f, 0.0f};  // --environment R,G,B: uniform radiance, W sr^-1 m^-2

@@ -40,6 +40,7 @@ TEST(Cli, UsageErrorsExitTwoAndNameTheOption) {
       {"render " + kScenes + "cornell-box.gltf --patch-size 0", "--patch-size"},
       {"render " + kScenes + "cornell-box.gltf --patch-clusters maybe", "--patch-clusters"},
       {"render " + kScenes + "cornell-box.gltf --patch-refine 2", "--patch-refine"},
+      {"render " + kScenes + "cornell-box.gltf --patches 0", "--patches"},
       {"render " + kScenes + "cornell-box.gltf --spp", "--spp"},
       {"render " + kScenes + "cornell-box.gltf --kernels fast", "--kernels"},
       {"render " + kScenes + "cornell-box.gltf --environment 1,2", "--environment"},
@@ -572,6 +573,16 @@ TEST(Cli, PatchRefineSplitsWhereALampsShadowsFallAndSaysSo) {
   EXPECT_EQ(off_text.find("split where shadows"), std::string::npos) << off_text;
   EXPECT_FALSE(off.contains("patch_refined_triangles"));
   EXPECT_EQ(pt["patches"], off["patches"]);
+  // --patches: the budget, kept; at or below the unrefined count nothing is split, and it says why
+  const int budget = off["patches"].get<int>() + 200;
+  const auto [few_text, few] = render("--ratio 1 --patches " + std::to_string(budget));
+  EXPECT_LE(few["patches"].get<int>(), budget);
+  EXPECT_LT(few["patch_refined_triangles"].get<int>(), on["patch_refined_triangles"].get<int>());
+  const auto [none_text, none] = render("--ratio 1 --patches 10");
+  EXPECT_EQ(none["patches"], off["patches"]);
+  EXPECT_NE(none_text.find("--patches 10 is not above"), std::string::npos) << none_text;
+  const auto [pt_budget_text, pt_budget] = render("--mode pt --patches 10");
+  EXPECT_NE(pt_budget_text.find("this render splits no patch"), std::string::npos) << pt_budget_text;
 }
 
 TEST(Cli, TimeBudgetStopsTheRender) {
