@@ -1,6 +1,8 @@
 #include "render/light_refinement.h"
 
 #include "device/device_scene.h"
+#include "passes/ray_bundles.h"
+#include "scene/bundle_geometry.h"
 #include "kernels/shared/bvh.h"
 #include "kernels/shared/lights.h"
 #include "kernels/shared/rng.h"
@@ -150,7 +152,12 @@ double shadowed_share(const double* unshadowed, const std::uint8_t* visible, std
 
 LightRefinementOptions light_refinement_options(const Scene& scene, const PatchLayout& layout) {
   LightRefinementOptions o;
-  o.min_patch_size = glm::length(scene.bounds.extent()) / kMinPatchFraction;
+  // a patch much smaller than a bin of the buffer gets few bundles and a noisy light: none is split
+  // below kMinPatchBins bins of the default buffer (the Blender room's Suzanne, 3 cm triangles
+  // split to 1 cm, gave a 60-fold firefly in RB's layer)
+  const BundleSize size = bundle_size(scene, layout);
+  const float bin = 2.0f * size.radius / float(default_bins(size));
+  o.min_patch_size = std::max(glm::length(scene.bounds.extent()) / kMinPatchFraction, kMinPatchBins * bin);
   o.max_patches = std::min(kPatchBudgetFactor * std::uint64_t(layout.patch_count), std::uint64_t(1) << 31);
   return o;
 }

@@ -40,9 +40,11 @@ struct LightRefinementResult {
 // One function of the four points' visibilities, for the tests to call.
 double shadowed_share(const double* unshadowed, const std::uint8_t* visible, std::size_t samples, std::size_t points);
 
-// The defaults: two levels, no patch below the scene's diagonal / kMinPatchFraction, at most
-// kPatchBudgetFactor times the unrefined layout's patches.
+// The defaults: two levels, no patch below the scene's diagonal / kMinPatchFraction nor below
+// kMinPatchBins bins of the unrefined layout's default buffer, at most kPatchBudgetFactor times
+// the unrefined layout's patches.
 inline constexpr float kMinPatchFraction = 640.0f;
+inline constexpr float kMinPatchBins = 2.0f;
 inline constexpr std::uint64_t kPatchBudgetFactor = 2;
 LightRefinementOptions light_refinement_options(const Scene& scene, const PatchLayout& layout);
 
