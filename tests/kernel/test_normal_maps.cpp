@@ -5,6 +5,7 @@
 #include "kernel/device_fixture.h"
 #include "kernel/region_test.h"
 #include "scene/tangents.h"
+#include "scene/textures.h"
 #include "stats.h"
 
 #include "kernels/shared/normal_map.h"
@@ -19,14 +20,15 @@ namespace {
 // Gives `material` of `scene` a `width` x `height` normal map (RGB bytes, linear, bilinear, repeat)
 // of `scale`, and its triangles tangents: T = `tangent` where given, else any one in the surface,
 // handedness `w`; uv from the position along T and the bitangent, one texture per metre.
+// `rotation` (radians): KHR_texture_transform's, about the uv origin.
 void add_normal_map(Scene& scene, std::uint32_t material, int width, int height, const std::vector<unsigned>& rgb,
-                    float scale, float w, glm::vec3 tangent = glm::vec3(0.0f)) {
+                    float scale, float w, glm::vec3 tangent = glm::vec3(0.0f), float rotation = 0.0f) {
   TextureView v{};
   v.first_texel = std::uint32_t(scene.texels.size());
   v.width = std::uint32_t(width);
   v.height = std::uint32_t(height);
   v.flags = BP_WRAP_REPEAT | BP_WRAP_REPEAT << BP_TEXTURE_WRAP_T_SHIFT;
-  v.transform[0] = v.transform[3] = 1.0f;
+  texture_transform(0.0f, 0.0f, rotation, 1.0f, 1.0f, v.transform);
   for (int i = 0; i < width * height; ++i)
     scene.texels.push_back(rgb[3 * i] | rgb[3 * i + 1] << 8 | rgb[3 * i + 2] << 16 | 0xff000000u);
   scene.texture_views.push_back(v);
@@ -125,6 +127,27 @@ TEST(NormalMaps, TiltedConstantMapScalesTheSunlitQuadByTheCosineRatio) {
   expect_uniform_image(run.combined, mapped_l, double(cs.rounds), "combined, tilted map");
 }
 
+// KHR_texture_transform turns the map's slopes with its image: the same texel through a uv rotated by
+// a quarter turn tilts the shading normal a quarter turn about N (normal_map_untransformed).
+TEST(NormalMaps, ARotatedMapsSlopesTurnWithItsImage) {
+  const unsigned texel[3] = {230, 128, 200};  // tilted along the image's x
+  const float scale = 1.0f, w = 1.0f;         // T = +x, B = cross(N, T) = +y
+  const glm::dvec3 n_ts((2.0 * texel[0] / 255.0 - 1.0) * scale, (2.0 * texel[1] / 255.0 - 1.0) * scale,
+                        2.0 * texel[2] / 255.0 - 1.0);
+  // A quarter turn: u' = -v, v' = u, so in image axes (x = u, y = -v) x' = y and y' = -x: the image's
+  // x' runs along the surface's +y and y' along -x, and N' = x_ts (+y) + y_ts (-x) + z_ts N.
+  const glm::dvec3 rotated = glm::normalize(glm::dvec3(-n_ts.y, n_ts.x, n_ts.z));
+  const glm::dvec3 unrotated = glm::normalize(n_ts);
+  const double rotated_l = kKd / M_PI * glm::dot(rotated, kToSun), unrotated_l = kKd / M_PI * glm::dot(unrotated, kToSun);
+  std::printf("[normal maps] rotated map: %.5f, unrotated %.5f\n", rotated_l, unrotated_l);
+  ASSERT_GT(std::fabs(rotated_l / unrotated_l - 1.0), 0.1) << "the turn must change the light enough to see";
+
+  Scene scene = sunlit_quad();
+  add_normal_map(scene, 0, 1, 1, {texel[0], texel[1], texel[2]}, scale, w, glm::vec3(1, 0, 0), float(M_PI / 2.0));
+  const int spp = 16;
+  expect_uniform_image(render_pt(scene, kQuadSize, kQuadSize, spp, 7).image, rotated_l, spp, "PT, rotated map");
+}
+
 // ---------------------------------------------------------------- the glossy light box, walls mapped
 
 TEST(NormalMaps, FlatMapRendersAsNoMap) {
@@ -197,6 +220,41 @@ TEST(NormalMaps, TangentSpaceNormalAndItsFrame) {
   EXPECT_NEAR(y_minus.y, -0.6f, 1e-6f);  // B = -cross(N, T)
   const float3 no_frame = normal_map_to_world(n, make_float3(0, 0, 2), 1.0f, make_float3(0.6f, 0.0f, 0.8f));
   EXPECT_EQ(no_frame.z, 1.0f);  // t along n: no frame, the normal itself
+}
+
+// A height field h = g' . (x', y') painted in the transformed image, read back on a surface whose
+// frame is T = +x, B = +y (image axes x = u, y = -v): its slopes over the surface, by finite
+// differences, against normal_map_untransformed's turn of the map's normal. Rotations and mirrors
+// keep the slopes' size and turn them exactly; a uniform scale keeps the map's tilt (tangents keep
+// only directions) and its direction.
+TEST(NormalMaps, ATransformedMapsNormalTurnsAsItsImage) {
+  const glm::dvec2 slope_in_image(0.3, -0.45);  // dh/dx', dh/dy'
+  const float3 n_image = make_float3(float(-slope_in_image.x), float(-slope_in_image.y), 1.0f);
+  struct Case {
+    float rotation, scale_u, scale_v;
+  };
+  for (const Case c : {Case{0.0f, 1, 1}, Case{0.7f, 1, 1}, Case{-2.1f, 1, 1}, Case{3.0f, -1, 1}, Case{1.2f, 1, -1},
+                       Case{0.4f, 2.5f, 2.5f}}) {
+    float transform[6];
+    texture_transform(0.2f, -0.1f, c.rotation, c.scale_u, c.scale_v, transform);
+    auto height = [&](double x, double y) {  // the surface point (x, y) -> uv -> uv' -> image' axes
+      const double u = x, v = -y;
+      const double u2 = transform[0] * u + transform[2] * v + transform[4];
+      const double v2 = transform[1] * u + transform[3] * v + transform[5];
+      return slope_in_image.x * u2 + slope_in_image.y * (-v2);
+    };
+    const double e = 1e-3;
+    glm::dvec2 slope((height(0.3 + e, 0.2) - height(0.3 - e, 0.2)) / (2 * e),
+                     (height(0.3, 0.2 + e) - height(0.3, 0.2 - e)) / (2 * e));
+    const double size = std::fabs(c.scale_u);  // the uniform scale that steepens the field, not the map
+    slope /= size;
+    const float3 turned = normal_map_untransformed(transform, n_image);
+    const std::string what = "rotation " + std::to_string(c.rotation) + ", scale " + std::to_string(c.scale_u) +
+                             " x " + std::to_string(c.scale_v);
+    EXPECT_NEAR(turned.x, -slope.x, 1e-5) << what;
+    EXPECT_NEAR(turned.y, -slope.y, 1e-5) << what;
+    EXPECT_EQ(turned.z, 1.0f) << what;
+  }
 }
 
 }  // namespace
