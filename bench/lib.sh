@@ -164,7 +164,8 @@ bench_reference() {
 # bench_rooms_scene TRIANGLES [SEED [VARIANT [ROOMS]]]: a procedural rooms scene
 # (host/scene/procedural.cpp) written as .glb by bench/make_rooms, cached (a pure function of the
 # triangle count, seed, materials and rooms); VARIANT "lambert" writes every material pure Lambert
-# (make_rooms --lambert), "ggx" glTF metallic-roughness; ROOMS fixes the rooms per side (make_rooms
+# (make_rooms --lambert), "ggx" glTF metallic-roughness, "ggxR" that with every glossy material at
+# roughness R (make_rooms --ggx --roughness R); ROOMS fixes the rooms per side (make_rooms
 # --rooms: the same house tessellated finer). ROOMS equal to the default grid, round(sqrt(N / 4000)),
 # is the same file as no ROOMS, so it keeps that name and its cached references.
 bench_rooms_scene() {
@@ -174,6 +175,7 @@ bench_rooms_scene() {
   local stem=rooms-$n
   local -a make_flags=()
   if [ -n "$variant" ]; then stem=rooms-$variant-$n; make_flags=(--"$variant"); fi
+  if [[ $variant =~ ^ggx([0-9.]+)$ ]]; then make_flags=(--ggx --roughness "${BASH_REMATCH[1]}"); fi
   if [ -n "$rooms" ] && [ "$rooms" != "$(awk -v n="$n" 'BEGIN { g = int(sqrt(n / 4000) + 0.5); print g < 1 ? 1 : g }')" ]; then
     stem=$stem-r$rooms; make_flags+=(--rooms "$rooms")
   fi
@@ -200,13 +202,15 @@ bench_rooms_spec() {
 
 # bench_scene NAME: a scene name of the study -> a file. cornell-box, cornell-glossy (scenes/),
 # rooms-N (procedural, N triangles), rooms-lambert-N (the same house, every material Lambert),
-# rooms-ggx-N (the same house in glTF metallic-roughness: make_rooms --ggx), each with an optional
+# rooms-ggx-N (the same house in glTF metallic-roughness: make_rooms --ggx), rooms-ggxR-N (that house
+# with every glossy material at roughness R: rooms-ggx0.1-100000), each with an optional
 # -rR (R x R rooms whatever N is: rooms-lambert-1000000-r5 is rooms-lambert-100000's house at 1 M
 # triangles), or a path.
 bench_scene() {
   case $1 in
     rooms-lambert-*) bench_rooms_spec "${1#rooms-lambert-}" lambert ;;
     rooms-ggx-*) bench_rooms_spec "${1#rooms-ggx-}" ggx ;;
+    rooms-ggx[0-9]*-*) local tail=${1#rooms-ggx}; bench_rooms_spec "${tail#*-}" "ggx${tail%%-*}" ;;
     rooms-*) bench_rooms_spec "${1#rooms-}" "" ;;
     *.gltf|*.glb) echo "$1" ;;
     *) echo "$bench_root/scenes/$1.gltf" ;;

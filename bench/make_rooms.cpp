@@ -6,12 +6,13 @@
 // materials, camera) before the tool reports success. The camera has no zfar (an infinite
 // projection): tinygltf always writes one, 0 when unset, which is not valid glTF (zfar > znear) and
 // makes Blender clip everything, so the written JSON is edited before it reaches the file.
-// Usage: make_rooms TRIANGLES OUT.glb|OUT.gltf [--seed N] [--rooms R] [--lambert | --ggx]
+// Usage: make_rooms TRIANGLES OUT.glb|OUT.gltf [--seed N] [--rooms R] [--lambert | --ggx [--roughness R]]
 //   --rooms R: R x R rooms whatever TRIANGLES is, so one house (layout, lights, camera) can be
 //   written at several triangle counts, the extra triangles from finer tessellation of the same
 //   surfaces; R equal to the default grid writes the same bytes as leaving it out.
 //   --lambert: every material pure Lambert (ks = 0, kd kept): the "Lambert house".
-//   --ggx: glTF's own metallic-roughness materials (no extras.phong): the "GGX house" (set_ggx_material).
+//   --ggx: glTF's own metallic-roughness materials (no extras.phong): the "GGX house" (set_ggx_material);
+//   --roughness R: every glossy material of it at roughness R (the roughness sweep, bench/README.md).
 #include "scene/tinygltf.h"
 
 #include "scene/gltf_loader.h"
@@ -24,6 +25,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -41,12 +43,14 @@ tinygltf::Value rgb_value(const glm::vec3& c) {
 // baseColor = kd; a Phong lobe of exponent n as the Blinn lobe of exponent 4n it is close to, and
 // that as GGX's α = sqrt(2 / (4n + 2)) (Walter et al. 2007's Beckmann-Blinn correspondence),
 // roughness = sqrt(α) (glTF: α = roughness²); a material without a lobe (ks = 0) at roughness 1.
-// The floor (n = 20) gets roughness 0.39, the furniture (n = 40) 0.33.
-void set_ggx_material(tinygltf::Material& out, const bp::SceneMaterial& m) {
+// The floor (n = 20) gets roughness 0.39, the furniture (n = 40) 0.33; `roughness` >= 0 replaces
+// every lobe's (make_rooms --roughness: the same house glossier or rougher).
+void set_ggx_material(tinygltf::Material& out, const bp::SceneMaterial& m, double roughness) {
   out.pbrMetallicRoughness.baseColorFactor = {m.kd.x, m.kd.y, m.kd.z, 1.0};
   out.pbrMetallicRoughness.metallicFactor = 0.0;
   const bool lobe = std::max(m.ks.x, std::max(m.ks.y, m.ks.z)) > 0.0f;
-  out.pbrMetallicRoughness.roughnessFactor = lobe ? std::sqrt(std::sqrt(2.0 / (4.0 * m.shininess + 2.0))) : 1.0;
+  const double from_shininess = std::sqrt(std::sqrt(2.0 / (4.0 * m.shininess + 2.0)));
+  out.pbrMetallicRoughness.roughnessFactor = lobe ? (roughness >= 0.0 ? roughness : from_shininess) : 1.0;
 }
 
 void set_phong_material(tinygltf::Material& out, const bp::SceneMaterial& m) {
@@ -57,7 +61,7 @@ void set_phong_material(tinygltf::Material& out, const bp::SceneMaterial& m) {
   out.extras = tinygltf::Value(tinygltf::Value::Object{{"phong", tinygltf::Value(phong)}});
 }
 
-tinygltf::Model to_gltf(const bp::Scene& scene, bool ggx) {
+tinygltf::Model to_gltf(const bp::Scene& scene, bool ggx, double roughness) {
   tinygltf::Model model;
   model.asset.version = "2.0";
   model.asset.generator = "bundlepath bench/make_rooms (" + scene.source + ")";
@@ -66,7 +70,7 @@ tinygltf::Model to_gltf(const bp::Scene& scene, bool ggx) {
     tinygltf::Material out;
     out.name = m.name;
     out.doubleSided = m.double_sided;
-    if (ggx) set_ggx_material(out, m);
+    if (ggx) set_ggx_material(out, m, roughness);
     else set_phong_material(out, m);
     const float peak = std::max(m.emission.x, std::max(m.emission.y, m.emission.z));
     if (peak > 0.0f) {
@@ -187,13 +191,14 @@ std::string fix_camera(const std::string& written, bool binary) {
 }
 
 const char kUsage[] =
-    "usage: make_rooms TRIANGLES OUT.glb|OUT.gltf [--seed N] [--rooms R] [--lambert | --ggx]\n"
+    "usage: make_rooms TRIANGLES OUT.glb|OUT.gltf [--seed N] [--rooms R] [--lambert | --ggx [--roughness R]]\n"
     "  TRIANGLES  about how many triangles the rooms are tessellated to (a positive integer)\n"
     "  --seed N   the layout's seed [1]\n"
     "  --rooms R  R x R rooms, the same house at any TRIANGLES (finer tessellation)\n"
     "             [round(sqrt(TRIANGLES / 4000)): more triangles, more rooms]\n"
     "  --lambert  every material pure Lambert (ks = 0, kd kept)\n"
-    "  --ggx      glTF metallic-roughness materials (GGX; the Phong lobes as roughness)\n";
+    "  --ggx      glTF metallic-roughness materials (GGX; the Phong lobes as roughness)\n"
+    "  --roughness R  with --ggx: every glossy material (floor, furniture) at roughness R in [0, 1]\n";
 
 // The default grid at the largest TRIANGLES (2^32) is 1036 rooms per side.
 constexpr std::uint64_t kMaxRoomsPerSide = 1024;
@@ -216,6 +221,7 @@ int main(int argc, char** argv) {
   std::uint32_t seed = 1;
   int rooms = 0;  // 0: make_rooms_scene's default for the triangle count
   bool lambert = false, ggx = false;
+  double roughness = -1.0;  // < 0: from the Phong lobes
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "-h" || arg == "--help") {
@@ -225,6 +231,12 @@ int main(int argc, char** argv) {
       lambert = true;
     } else if (arg == "--ggx") {
       ggx = true;
+    } else if (arg == "--roughness") {
+      if (i + 1 >= argc) return usage_error("--roughness: missing value");
+      char* end = nullptr;
+      roughness = std::strtod(argv[++i], &end);
+      if (end == argv[i] || *end != '\0' || !(roughness >= 0.0 && roughness <= 1.0))
+        return usage_error(std::string("--roughness: expected a number in 0..1, got '") + argv[i] + "'");
     } else if (arg == "--seed") {
       std::uint64_t value = 0;
       if (i + 1 >= argc) return usage_error("--seed: missing value");
@@ -245,6 +257,7 @@ int main(int argc, char** argv) {
     }
   }
   if (lambert && ggx) return usage_error("--lambert and --ggx exclude each other");
+  if (roughness >= 0.0 && !ggx) return usage_error("--roughness needs --ggx");
   if (positional.size() != 2) return usage_error("expected TRIANGLES and OUT, got " + std::to_string(positional.size()) + " arguments");
   std::uint64_t target = 0;
   if (!parse_count(positional[0].c_str(), target) || target == 0 || target > (1ull << 32))
@@ -257,7 +270,7 @@ int main(int argc, char** argv) {
   bp::Scene scene = bp::make_rooms_scene(std::size_t(target), seed, rooms);
   if (lambert)
     for (bp::SceneMaterial& m : scene.materials) m.ks = glm::vec3(0.0f);
-  const tinygltf::Model model = to_gltf(scene, ggx);
+  const tinygltf::Model model = to_gltf(scene, ggx, roughness);
   tinygltf::TinyGLTF writer;
   std::ostringstream written;
   bool ok = writer.WriteGltfSceneToStream(&model, written, !binary, binary);

@@ -2,7 +2,8 @@
 # CTest make_rooms_output: the written camera has no zfar (glTF: an infinite projection; tinygltf's
 # zfar 0 is invalid and makes Blender clip everything), in .glb and .gltf; --lambert writes ks = 0
 # everywhere and keeps kd; --ggx writes metallic-roughness dielectrics with baseColor = kd, roughness
-# from the Phong exponent where there is a lobe and 1 where not, and no extras.phong; --rooms R keeps
+# from the Phong exponent where there is a lobe and 1 where not, and no extras.phong, and with
+# --roughness R that roughness wherever there is a lobe, all else the same; --rooms R keeps
 # the house (materials, lights, camera, extent) and only tessellates it finer, within 2 % of the
 # target count, and --rooms at the default grid writes the same bytes; bad arguments exit 2 with the
 # usage.
@@ -14,6 +15,7 @@ mkdir -p "$dir"
 "$tool" 3000 "$dir/lambert.gltf" --lambert 2>/dev/null
 "$tool" 3000 "$dir/lambert.glb" --lambert --seed 1 2>/dev/null
 "$tool" 3000 "$dir/ggx.gltf" --ggx 2>/dev/null
+"$tool" 3000 "$dir/ggx-rough.gltf" --ggx --roughness 0.15 2>/dev/null
 "$tool" 3000 "$dir/plain-r1.glb" --rooms 1 2>/dev/null
 "$tool" 30000 "$dir/fine-r1.glb" --rooms 1 2>/dev/null
 "$tool" 100000 "$dir/fine-r2.glb" --rooms 2 2>/dev/null
@@ -53,6 +55,12 @@ for m in ggx["materials"]:
     expected = (2.0 / (4.0 * v["shininess"] + 2.0)) ** 0.25 if lobe else 1.0
     assert abs(pbr.get("roughnessFactor", 1.0) - expected) < 1e-6, (m, expected)
 assert any(m["pbrMetallicRoughness"].get("roughnessFactor", 1.0) < 0.5 for m in ggx["materials"]), "glossy"
+rough = json.load(open(f"{d}/ggx-rough.gltf"))
+for m, g in zip(rough["materials"], ggx["materials"]):
+    lobe = max(phong(plain)[m["name"]]["ks"]) > 0
+    r = m["pbrMetallicRoughness"].get("roughnessFactor", 1.0)
+    assert abs(r - (0.15 if lobe else 1.0)) < 1e-6, (m, lobe)
+    assert {**m, "pbrMetallicRoughness": {}} == {**g, "pbrMetallicRoughness": {}}, (m, g)
 
 def house(path):
     doc = glb_json(path)
@@ -77,7 +85,7 @@ for fine_path, plain_path, target in ((f"{d}/fine-r1.glb", f"{d}/plain.glb", 300
     assert fine_box == plain_box, (fine_box, plain_box)
 print("make_rooms output OK")
 PY
-for args in "3000 $dir/x.glb --rooms 0" "3000 $dir/x.glb --rooms x" "3000 $dir/x.glb --rooms" "3000 $dir/x.glb --lambert --ggx" "abc $dir/x.glb" "3000 $dir/x.glb --bogus" "3000" "3000 $dir/x.obj" "3000 $dir/x.glb --seed" "-5 $dir/x.glb"; do
+for args in "3000 $dir/x.glb --rooms 0" "3000 $dir/x.glb --rooms x" "3000 $dir/x.glb --rooms" "3000 $dir/x.glb --lambert --ggx" "abc $dir/x.glb" "3000 $dir/x.glb --bogus" "3000" "3000 $dir/x.obj" "3000 $dir/x.glb --seed" "-5 $dir/x.glb" "3000 $dir/x.glb --roughness 0.2" "3000 $dir/x.glb --ggx --roughness 1.5" "3000 $dir/x.glb --ggx --roughness" "3000 $dir/x.glb --ggx --roughness a"; do
   rc=0
   # shellcheck disable=SC2086
   msg=$("$tool" $args 2>&1) || rc=$?
