@@ -22,23 +22,6 @@ constexpr bp_u32 kRefinementSeed = 0x5eed11u;  // the light samples' stream: fix
 
 double luminance(float3 c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }  // Rec. 709
 
-// Whether the segment from origin along dir reaches `distance` unblocked; thin panes pass it
-// (DESIGN.md §11), at most BP_MAX_PANE_CROSSINGS of them.
-bool reaches(const FlatBvh& bvh, const Scene& scene, float3 origin, float3 dir, float distance, float step) {
-  const float t_max = distance < BP_FLOAT_MAX ? distance - step : BP_FLOAT_MAX;
-  if (!scene.has_transmission()) return !bvh_occluded(bvh.nodes.data(), bvh.triangles.data(), origin, dir, t_max);
-  float travelled = 0.0f;
-  for (std::uint32_t k = 0; k <= BP_MAX_PANE_CROSSINGS; ++k) {
-    Hit hit;
-    const float left = t_max < BP_FLOAT_MAX ? t_max - travelled : BP_FLOAT_MAX;
-    if (!(left > 0.0f) || !bvh_closest_hit(bvh.nodes.data(), bvh.triangles.data(), origin, dir, left, &hit)) return true;
-    if (!(scene.materials[scene.triangles[hit.triangle].material].transmission > 0.0f)) return false;
-    origin = origin + dir * (hit.t + step);
-    travelled += hit.t + step;
-  }
-  return false;
-}
-
 struct TriangleScore {
   double largest_share = 0.0;
   double shadowed_area = 0.0;
@@ -107,7 +90,7 @@ struct Sampler {
             const double cosine = double(n.x) * s.wi.x + double(n.y) * s.wi.y + double(n.z) * s.wi.z;
             const double unshadowed = cosine > 0.0 ? luminance(s.radiance_over_pdf) * cosine : 0.0;
             g[j * 4 + i] = unshadowed;
-            v[j * 4 + i] = unshadowed > 0.0 && reaches(bvh, scene, x, s.wi, s.distance, offset) ? 1u : 0u;
+            v[j * 4 + i] = unshadowed > 0.0 && clear_through_panes(bvh, scene, x, s.wi, s.distance, offset) ? 1u : 0u;
           }
         }
         const double share = shadowed_share(g.data(), v.data(), draws.size(), 4);

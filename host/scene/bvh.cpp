@@ -2,6 +2,7 @@
 // collapsed into the 4-wide nodes that kernels/shared/bvh.h walks, opening the largest child
 // first (or two levels at a time where that would outgrow the traversal stack).
 #include "scene/bvh.h"
+#include "kernels/shared/through_panes.h"
 
 #include <algorithm>
 #include <cfloat>
@@ -405,6 +406,22 @@ FlatBvh build_bvh(const std::vector<SceneTriangle>& triangles) {
   FlatBvh flat;
   Collapser(binary, builder, triangles, flat).run();
   return flat;
+}
+
+bool clear_through_panes(const FlatBvh& bvh, const Scene& scene, float3 origin, float3 dir, float distance,
+                         float step) {
+  const float t_max = distance < BP_FLOAT_MAX ? distance - step : BP_FLOAT_MAX;
+  if (!scene.has_transmission()) return !bvh_occluded(bvh.nodes.data(), bvh.triangles.data(), origin, dir, t_max);
+  float travelled = 0.0f;
+  for (std::uint32_t k = 0; k <= BP_MAX_PANE_CROSSINGS; ++k) {
+    Hit hit;
+    const float left = t_max < BP_FLOAT_MAX ? t_max - travelled : BP_FLOAT_MAX;
+    if (!(left > 0.0f) || !bvh_closest_hit(bvh.nodes.data(), bvh.triangles.data(), origin, dir, left, &hit)) return true;
+    if (!(scene.materials[scene.triangles[hit.triangle].material].transmission > 0.0f)) return false;
+    origin = origin + dir * (hit.t + step);
+    travelled += hit.t + step;
+  }
+  return false;
 }
 
 }  // namespace bp

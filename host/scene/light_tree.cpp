@@ -291,20 +291,6 @@ glm::dvec2 visibility_point(int j) {
 // share of kVisibilityRays rays from points spread over the patch (offset along n) that leave the
 // scene -- towards a sun, or along cosine-distributed directions for the environment -- averaged
 // with the lights' power shares, at least 1 / kVisibilityRays.
-// Whether a ray leaves the scene, passing thin panes (DESIGN.md §11: a sun reaches the room through
-// its windows), which it crosses at most BP_MAX_PANE_CROSSINGS of.
-bool escapes_through_panes(const FlatBvh& bvh, const Scene& scene, float3 origin, float3 dir, float step) {
-  if (!scene.has_transmission())
-    return !bvh_occluded(bvh.nodes.data(), bvh.triangles.data(), origin, dir, BP_FLOAT_MAX);
-  for (std::uint32_t k = 0; k <= BP_MAX_PANE_CROSSINGS; ++k) {
-    Hit hit;
-    if (!bvh_closest_hit(bvh.nodes.data(), bvh.triangles.data(), origin, dir, BP_FLOAT_MAX, &hit)) return true;
-    if (!(scene.materials[scene.triangles[hit.triangle].material].transmission > 0.0f)) return false;
-    origin = origin + dir * (hit.t + step);
-  }
-  return false;
-}
-
 float infinite_visibility(const glm::dvec3 c[3], const glm::dvec3& n, const LightList& lights, const FlatBvh& bvh,
                           const Scene& scene, float offset) {
   double seen = 0.0, share = 0.0;
@@ -323,8 +309,8 @@ float infinite_visibility(const glm::dvec3 c[3], const glm::dvec3& n, const Ligh
       const glm::dvec3 dir = l.type == BP_LIGHT_DIRECTIONAL
                                  ? to_sun
                                  : t * (root * std::cos(phi)) + b * (root * std::sin(phi)) + n * std::sqrt(1.0 - u.x);
-      escaped += escapes_through_panes(bvh, scene, make_float3(float(p.x), float(p.y), float(p.z)),
-                                       make_float3(float(dir.x), float(dir.y), float(dir.z)), offset);
+      escaped += clear_through_panes(bvh, scene, make_float3(float(p.x), float(p.y), float(p.z)),
+                                     make_float3(float(dir.x), float(dir.y), float(dir.z)), BP_FLOAT_MAX, offset);
     }
     seen += double(l.select_probability) * escaped / kVisibilityRays;
     share += double(l.select_probability);
