@@ -162,7 +162,9 @@ __kernel void rb_outgoing(__global const BundleElement* elements, __global const
     // The same sample for the eye vertex (--eye-direct shared): its irradiance weighted as the RB
     // light technique of the eye vertex's last segment, and its direction, for rb_eye to reflect.
     float w = ls.irradiance.x + ls.irradiance.y + ls.irradiance.z > 0.0f
-                  ? eye_segment_weights(it.weight_ratio, it.light_rate, eye_direct_proxy_pdf_uv(&bsdf, dot(n, ls.wi)),
+                  ? eye_segment_weights(it.weight_ratio, it.light_rate,
+                                        eye_direct_material_proxy_pdf_uv(&materials[elements[pe & ~BP_BACK_SIDE].material],
+                                                                         dot(n, ls.wi)),
                                         0.0f, ls.pdf_light, ls.is_delta).rb_light
                   : 0.0f;
     eye_light[2 * p] = (float4)(ls.irradiance.x * w, ls.irradiance.y * w, ls.irradiance.z * w, 0.0f);
@@ -313,7 +315,7 @@ static float4 rb_direct_received(__global const BundleElement* elements, __globa
   float3 wi = facing(n_receiver, travel);
   float w;
   if (eye_vertex) {
-    float proxy = eye_direct_proxy_pdf_uv(&receiver, dot(n_receiver, wi));
+    float proxy = eye_direct_material_proxy_pdf_uv(&materials[elements[receiver_element].material], dot(n_receiver, wi));
     w = eye_segment_weights(it->weight_ratio, it->light_rate, proxy, 0.0f, p_light, 0).rb_bundle;
   } else {
     float3 wo = facing(n_receiver, bp_private3(it->omega_next));
@@ -345,7 +347,7 @@ static float4 rb_environment_received(__global const BundleElement* elements, __
   float p_light = light_pdf_uv_environment(light_set, receiver_patch, it->environment_light, -travel);
   float w;
   if (c == eye) {
-    float proxy = eye_direct_proxy_pdf_uv(&receiver, dot(n_receiver, wi));
+    float proxy = eye_direct_material_proxy_pdf_uv(&materials[elements[receiver_element].material], dot(n_receiver, wi));
     w = eye_segment_weights(it->weight_ratio, it->light_rate, proxy, 0.0f, p_light, 0).rb_bundle;
   } else {
     float3 wo = facing(n_receiver, bp_private3(it->omega_next));
@@ -608,8 +610,10 @@ __kernel void rb_eye_hits(__global const BvhNode* nodes, __global const BvhTrian
   out.pad0 = out.pad1 = 0.0f;
   Hit hit;
   float3 shading_normal = make_float3(0.0f, 0.0f, 1.0f);
-  // the texel's base colour (.w metallic), roughness (.w: 1, 0 untextured) and emission
+  // the texel's base colour (.w metallic), roughness (.y: 1 where specular is textured, .w: 1, 0
+  // untextured), emission, and dielectric f0 (.w specular)
   float4 texel_base = (float4)(0.0f), texel_roughness = (float4)(0.0f), texel_emission = (float4)(0.0f);
+  float4 texel_specular = (float4)(0.0f);
   const TextureSet textures = {texture_views, texels, material_textures, texcoords, uv_slots};
   // through thin panes (DESIGN.md §11): the eye sees what is behind a pane, attenuated, or the pane's
   // opaque rest; never its mirror, which is PT's alone
@@ -634,16 +638,18 @@ __kernel void rb_eye_hits(__global const BvhNode* nodes, __global const BvhTrian
         // the eye gather reflects with the texel at the hit (DESIGN.md §6), its weights with the patch's mean
         TexelMaterial tm = texel_material(&textures, &mt, hit.triangle, hit.b1, hit.b2);
         texel_base = (float4)(tm.base_color.x, tm.base_color.y, tm.base_color.z, tm.metallic);
-        texel_roughness = (float4)(tm.roughness, 0.0f, 0.0f, 1.0f);
+        texel_roughness = (float4)(tm.roughness, tm.specular_textured ? 1.0f : 0.0f, 0.0f, 1.0f);
         texel_emission = (float4)(tm.emission.x, tm.emission.y, tm.emission.z, 0.0f);
+        texel_specular = (float4)(tm.dielectric_f0.x, tm.dielectric_f0.y, tm.dielectric_f0.z, tm.specular_weight);
       }
     }
   }
   hits[pixel] = out;
   if (BP_FEATURE_TEXTURES && uv_slots > 0u) {
-    eye_texels[3 * pixel] = texel_base;
-    eye_texels[3 * pixel + 1] = texel_roughness;
-    eye_texels[3 * pixel + 2] = texel_emission;
+    eye_texels[BP_EYE_TEXELS * pixel] = texel_base;
+    eye_texels[BP_EYE_TEXELS * pixel + 1] = texel_roughness;
+    eye_texels[BP_EYE_TEXELS * pixel + 2] = texel_emission;
+    eye_texels[BP_EYE_TEXELS * pixel + 3] = texel_specular;
   }
   if (BP_FEATURE_SHADING_NORMALS && has_normals)
     eye_normals[pixel] = (float4)(shading_normal.x, shading_normal.y, shading_normal.z, 0.0f);
@@ -729,9 +735,18 @@ static Bsdf eye_hit_bsdf(const EyeHit* h, uint pixel, const BundleIteration* it,
   *n = patch_normal(elements, pe);
   Bsdf bsdf = bsdf_from_material(rb_material(materials, patch_materials, uv_slots, elements[pe & ~BP_BACK_SIDE].material,
                                              h->patch));
-  if (BP_FEATURE_TEXTURES && uv_slots > 0u && eye_texels[3 * pixel + 1].w > 0.0f) {  // the texel's f and emission
-    float4 base = eye_texels[3 * pixel], roughness = eye_texels[3 * pixel + 1], le = eye_texels[3 * pixel + 2];
-    bsdf_take_texel(&bsdf, make_float3(base.x, base.y, base.z), base.w, roughness.x, make_float3(le.x, le.y, le.z));
+  __global const float4* texel = eye_texels + BP_EYE_TEXELS * pixel;
+  if (BP_FEATURE_TEXTURES && uv_slots > 0u && texel[1].w > 0.0f) {  // the texel's f and emission
+    TexelMaterial t;
+    t.base_color = make_float3(texel[0].x, texel[0].y, texel[0].z);
+    t.metallic = texel[0].w;
+    t.roughness = texel[1].x;
+    t.emission = make_float3(texel[2].x, texel[2].y, texel[2].z);
+    t.alpha = 1.0f;
+    t.specular_textured = texel[1].y > 0.0f;
+    t.dielectric_f0 = make_float3(texel[3].x, texel[3].y, texel[3].z);
+    t.specular_weight = texel[3].w;
+    bsdf_take_texel(&bsdf, &t);
   }
   *ns = *n;
   if (BP_FEATURE_SHADING_NORMALS && it->shading_normals) {

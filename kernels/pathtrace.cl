@@ -100,7 +100,8 @@ static void add_light_sample(const SceneRefs* scene, const PathTraceParams* para
   // f cos L / p_solid  (the light-sampling estimator of the rendering equation's integral)
   float3 contribution = throughput * through * v.f * ls.radiance_over_pdf * cos_shading;
   LastSegmentWeights w = pt_last_segment_weights(params, depth, prefix_beta, pdf_bsdf_patch, pdf_bsdf,
-                                                 eye_direct_proxy_pdf_uv(bsdf, cos_x), ls.pdf_uv, ls.is_delta);
+                                                 eye_direct_material_proxy_pdf_uv(&scene->materials[surface->material], cos_x),
+                                                 ls.pdf_uv, ls.is_delta);
   // --rb-sun own: RB's patches also take samples of the sun of their own, at every vertex but the
   // eye's (whose share, under --eye-direct shared, RB takes from its chosen sample alone)
   if (depth > 0u && params->rb_sun_own_samples > 0u && scene->lights.lights[ls.light].type == BP_LIGHT_DIRECTIONAL)
@@ -272,7 +273,7 @@ static PathRadiance trace_path(const SceneRefs* scene, const PathTraceParams* pa
     last_prefix_beta = prefix_beta;
     last_pdf_bsdf = bsdf.continuation * sample.pdf_uv;
     last_pdf_bsdf_patch = bsdf.continuation * pdf_patch;
-    if (depth == 0u) last_pdf_proxy = eye_direct_proxy_pdf_uv(&bsdf, cos_geometric);
+    if (depth == 0u) last_pdf_proxy = eye_direct_material_proxy_pdf_uv(&scene->materials[surface.material], cos_geometric);
     last_patch = surface.patch;
     last_delta = 0;
     // Only the weights of the mode need the pdf state: q and r for paper, prod beta for product.

@@ -28,8 +28,9 @@ static_assert(offsetof(PixelAccum, raw) == 16);
 
 #include "kernels/shared/texture.h"
 BP_CHECK_LAYOUT(TextureView, 48);
-BP_CHECK_LAYOUT(MaterialTextures, 64);
-static_assert(offsetof(MaterialTextures, base_color_factor) == 16 && offsetof(MaterialTextures, normal) == 52);
+BP_CHECK_LAYOUT(MaterialTextures, 96);
+static_assert(offsetof(MaterialTextures, base_color_factor) == 16 && offsetof(MaterialTextures, normal) == 52 &&
+              offsetof(MaterialTextures, specular) == 60 && offsetof(MaterialTextures, specular_f0) == 72);
 
 #include "kernels/shared/bundle_types.h"
 BP_CHECK_LAYOUT(BundleElement, 64);

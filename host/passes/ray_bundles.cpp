@@ -186,7 +186,7 @@ RayBundlePass::RayBundlePass(const DeviceContext& device, const DeviceScene& sce
     view.normals = make_buffer(device, "eye hit shading normals", CL_MEM_READ_WRITE,
                                (scene.has_shading_normals ? pixel_count_ : 1) * sizeof(cl_float4));
     view.texels = make_buffer(device, "eye hit texels", CL_MEM_READ_WRITE,
-                              (scene.uv_slots > 0 ? 3 * pixel_count_ : 1) * sizeof(cl_float4));
+                              (scene.uv_slots > 0 ? BP_EYE_TEXELS * pixel_count_ : 1) * sizeof(cl_float4));
     view.pixel_sum =
         make_buffer(device, "eye estimate sums", CL_MEM_READ_WRITE, pixel_count_ * eye_outputs_ * sizeof(cl_float4));
     device.queue.enqueueFillBuffer(view.pixel_sum, cl_float4{{0, 0, 0, 0}}, 0,

@@ -23,7 +23,7 @@ constexpr std::string_view kSupported[] = {
     "KHR_lights_punctual",
     "KHR_materials_emissive_strength",
     "KHR_materials_ior",
-    "KHR_materials_specular",      // factors; its textures are warned (gltf_ignored_feature_warnings)
+    "KHR_materials_specular",      // factors and textures (texture.h's texel_material)
     "KHR_materials_transmission",  // a thin pane, or with a volume a refractor; what it cannot be is warned
     "KHR_materials_volume",        // thickness > 0: refracted, attenuated (gltf_loader.cpp's read_transmission)
     "KHR_mesh_quantization",       // integer vertex attributes (Loader::read_attribute)
@@ -181,12 +181,8 @@ std::vector<std::string> gltf_extension_warnings(const json& gltf) {
 }
 
 std::vector<std::string> gltf_ignored_feature_warnings(const tinygltf::Model& model) {
-  std::size_t occlusion = 0, specular_textures = 0, coloured = 0, morphed = 0, skinned = 0, channels = 0;
-  for (const auto& m : model.materials) {
-    occlusion += m.occlusionTexture.index >= 0;
-    if (auto ext = m.extensions.find("KHR_materials_specular"); ext != m.extensions.end())
-      specular_textures += ext->second.Has("specularTexture") || ext->second.Has("specularColorTexture");
-  }
+  std::size_t occlusion = 0, coloured = 0, morphed = 0, skinned = 0, channels = 0;
+  for (const auto& m : model.materials) occlusion += m.occlusionTexture.index >= 0;
   for (const auto& mesh : model.meshes) {
     bool targets = false;
     for (const auto& prim : mesh.primitives) {
@@ -208,8 +204,6 @@ std::vector<std::string> gltf_ignored_feature_warnings(const tinygltf::Model& mo
     if (n) out.push_back(what + " (" + std::to_string(n) + " " + noun + ")");
   };
   warn(occlusion, "material(s)", "occlusionTexture ignored: occlusion is computed by the renderer");
-  warn(specular_textures, "material(s)",
-       "KHR_materials_specular specularTexture and specularColorTexture ignored: their factors are used everywhere");
   warn(coloured, "primitive(s)", "COLOR_0 vertex colours ignored: the material's base colour is used");
   warn(morphed, "mesh(es)", "morph targets ignored: meshes keep their base shape, without the default weights");
   warn(skinned, "node(s)", "skins ignored: skinned meshes are drawn as stored, placed by their node");

@@ -21,7 +21,7 @@ std::string gltf_extension_error(const nlohmann::json& gltf);
 std::vector<std::string> gltf_extension_warnings(const nlohmann::json& gltf);
 
 // One warning per core glTF feature present that the loader ignores (occlusionTexture, COLOR_0,
-// skins, morph targets, animations other than a camera's, KHR_materials_specular's textures).
+// skins, morph targets, animations other than a camera's).
 std::vector<std::string> gltf_ignored_feature_warnings(const tinygltf::Model& model);
 
 }  // namespace bp

@@ -585,6 +585,12 @@ class Loader {
     t.metallic_roughness = texture_view(pbr.metallicRoughnessTexture, obj + " metallicRoughnessTexture", false, uv_sets);
     t.emissive = texture_view(m.emissiveTexture, obj + " emissiveTexture", true, uv_sets);
     read_normal_texture(m.normalTexture, obj + " normalTexture", t, uv_sets);
+    // KHR_materials_specular's textures (its factors: read_metallic_roughness)
+    const std::string specular = obj + " KHR_materials_specular";
+    t.specular = texture_view(extension_texture(m, "KHR_materials_specular", "specularTexture", specular),
+                              specular + ".specularTexture", false, uv_sets);
+    t.specular_color = texture_view(extension_texture(m, "KHR_materials_specular", "specularColorTexture", specular),
+                                    specular + ".specularColorTexture", true, uv_sets);
     for (int c = 0; c < 3; ++c) {
       t.base_color_factor[c] = out.base_color[c];
       t.emissive_factor[c] = out.emission[c];
@@ -607,6 +613,24 @@ class Loader {
     material_cut_away_.push_back(cut_away);
     material_uv_sets_.push_back(out.textured() || out.has_normal_map() ? uv_sets : std::vector<int>{});
     scene_.uv_slots = std::max(scene_.uv_slots, std::uint32_t(material_uv_sets_.back().size()));
+  }
+
+  // A textureInfo inside extension `name` of material m as `key` (index -1 where absent).
+  tinygltf::TextureInfo extension_texture(const tinygltf::Material& m, const char* name, const char* key,
+                                          const std::string& obj) const {
+    tinygltf::TextureInfo info;
+    const tinygltf::Value* v = extension(m.extensions, name, key);
+    if (!v) return info;
+    const tinygltf::Value* index = member(*v, "index");
+    const tinygltf::Value* tc = member(*v, "texCoord");
+    if (!index || !index->IsInt() || (tc && !tc->IsInt()))
+      fail(obj + "." + key + " is malformed (index: an integer, texCoord: an integer)");
+    info.index = index->GetNumberAsInt();
+    if (info.index < 0) fail(obj + "." + key + " has index " + std::to_string(info.index));
+    info.texCoord = tc ? tc->GetNumberAsInt() : 0;
+    if (const tinygltf::Value* ext = member(*v, "extensions"); ext && ext->IsObject())
+      for (const std::string& k : ext->Keys()) info.extensions[k] = ext->Get(k);
+    return info;
   }
 
   // normalTexture (DESIGN.md §6): a linear RGB view like the others, and its scale.
@@ -671,6 +695,8 @@ class Loader {
     }
     // dielectric_f0 = min(f0(ior) specularColor, 1), times specular in the Fresnel term (KHR_materials_specular)
     out.dielectric_f0 = glm::min(f0_ior * specular_colour, glm::vec3(1.0f));
+    out.textures.specular_factor = out.specular_weight;  // what the textures multiply (texel_material)
+    for (int c = 0; c < 3; ++c) out.textures.specular_f0[c] = f0_ior * specular_colour[c];
     out.ggx = !(out.metallic == 0.0f && out.specular_weight == 0.0f);
     out.kd = out.ggx ? glm::vec3(0.0f) : out.base_color;
     out.ks = glm::vec3(0.0f);
@@ -723,7 +749,9 @@ class Loader {
         material_uv_sets_.emplace_back();
         material_cut_away_.push_back(false);
         if (m.pbrMetallicRoughness.baseColorTexture.index >= 0 || m.emissiveTexture.index >= 0 ||
-            m.pbrMetallicRoughness.metallicRoughnessTexture.index >= 0 || m.normalTexture.index >= 0)
+            m.pbrMetallicRoughness.metallicRoughnessTexture.index >= 0 || m.normalTexture.index >= 0 ||
+            extension(m.extensions, "KHR_materials_specular", "specularTexture") ||
+            extension(m.extensions, "KHR_materials_specular", "specularColorTexture"))
           scene_.warnings.push_back(obj + ": extras.phong wins; its textures are ignored");
       }
       const float max_albedo = bp_max(out.kd + out.ks);

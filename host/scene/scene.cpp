@@ -36,7 +36,7 @@ bool Scene::has_transmission() const {
 
 MaterialTextures SceneMaterial::untextured() {
   MaterialTextures t{};
-  t.base_color = t.metallic_roughness = t.emissive = t.normal = BP_NO_TEXTURE;
+  t.base_color = t.metallic_roughness = t.emissive = t.normal = t.specular = t.specular_color = BP_NO_TEXTURE;
   t.normal_scale = 1.0f;
   t.alpha_cutoff = 0.0f;
   for (float& c : t.base_color_factor) c = 1.0f;

@@ -129,7 +129,8 @@ std::vector<Material> patch_mean_materials(const Scene& scene, const PatchLayout
     Material m = materials[tri.material];
     const SceneMaterial& sm = scene.materials[tri.material];
     if (sm.textured()) {
-      double base[3] = {0, 0, 0}, le[3] = {0, 0, 0}, metallic = 0.0, roughness = 0.0, points = 0.0;
+      double base[3] = {0, 0, 0}, le[3] = {0, 0, 0}, f0[3] = {0, 0, 0}, metallic = 0.0, roughness = 0.0;
+      double specular = 0.0, points = 0.0;
       for_each_patch_point(sub, [&](float b1, float b2) {
         // alphaMode MASK: the mean over the part that is there (what RB's fragments are)
         if (!alpha_is_surface(&set, tri.material, std::uint32_t(sub.triangle), b1, b2)) return;
@@ -143,6 +144,10 @@ std::vector<Material> patch_mean_materials(const Scene& scene, const PatchLayout
         le[2] += t.emission.z;
         metallic += t.metallic;
         roughness += t.roughness;
+        specular += t.specular_weight;
+        f0[0] += t.dielectric_f0.x;
+        f0[1] += t.dielectric_f0.y;
+        f0[2] += t.dielectric_f0.z;
       });
       if (points > 0.0) {
         for (int c = 0; c < 3; ++c) {
@@ -151,6 +156,10 @@ std::vector<Material> patch_mean_materials(const Scene& scene, const PatchLayout
         }
         m.metallic = float(metallic / points);
         m.roughness = float(roughness / points);
+        if (sm.textures.specular != BP_NO_TEXTURE || sm.textures.specular_color != BP_NO_TEXTURE) {
+          m.specular_weight = float(specular / points);
+          for (int c = 0; c < 3; ++c) m.dielectric_f0[c] = float(f0[c] / points);
+        }
         // a Lambert glTF material (metallic 0, no specular: the loader's choice) reflects kd = base colour
         if (!sm.ggx)
           for (int c = 0; c < 3; ++c) m.kd[c] = m.base_color[c] * (1.0f - m.metallic);

@@ -50,9 +50,9 @@ TextureSet host_texture_set(const Scene& scene, const std::vector<MaterialTextur
 inline constexpr int kPatchMeanSamplesPerSide = 16;
 
 // Per patch, its material with the textured values replaced by their means over the patch's area
-// (base colour, metallic, roughness, emission; kd of a Lambert one): what RB reflects and emits with,
-// and what every weight input (s, the lobe choice, p_uv) reads on both sides. `materials` is
-// pack_materials' list.
+// (base colour, metallic, roughness, emission, specular and its f0; kd of a Lambert one): what RB
+// reflects and emits with, and what every weight input (s, the lobe choice, p_uv) reads on both
+// sides. `materials` is pack_materials' list.
 std::vector<Material> patch_mean_materials(const Scene& scene, const PatchLayout& patches,
                                            const std::vector<Material>& materials);
 

@@ -5,6 +5,7 @@
 #include "shared/types.h"
 
 #define BP_NO_PATCH 0xffffffffu
+#define BP_EYE_TEXELS 4u  // float4s per pixel of RB's eye-hit texels (bundle.cl's eye_rays)
 
 // Bins are resolved in square tiles of BP_TILE_SIDE^2 (locality: a tile's counters stay in cache).
 #define BP_TILE_SIDE 16u

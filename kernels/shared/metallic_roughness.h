@@ -24,6 +24,8 @@ typedef struct {
   float density_alpha;    // GGX alpha of the density and of every weight input
   float density_base_max; // max(r, g, b) of the base colour, for the lobe choice and s
   float density_metallic;
+  float density_f0_max;   // max(dielectric_f0) and specular of the density and every weight input
+  float density_specular_weight;
   float opaque;           // 1 - transmission: the opaque rest's share of a transmitter (DESIGN.md §11), else 1
 } MetallicRoughness;
 
@@ -37,6 +39,8 @@ BP_FN MetallicRoughness metallic_roughness_from_material(BP_GLOBAL const Materia
   mr.density_alpha = mr.alpha;
   mr.density_base_max = bp_max3(mr.base_color);
   mr.density_metallic = m->metallic;
+  mr.density_f0_max = bp_max3(mr.dielectric_f0);
+  mr.density_specular_weight = mr.specular_weight;
   mr.opaque = (m->flags & (BP_MATERIAL_THIN_TRANSMITTER | BP_MATERIAL_REFRACTOR)) ? 1.0f - m->transmission : 1.0f;
   return mr;
 }
@@ -49,7 +53,7 @@ BP_FN float schlick_scalar(float f0, float weight) { return f0 + (1.0f - f0) * w
 // max(F_dielectric)) max(base); both patch-level. Returns P(specular lobe | wo).
 BP_FN float metallic_roughness_specular_probability(const MetallicRoughness* mr, float cos_o) {
   float weight = schlick_weight(clamp(cos_o, 0.0f, 1.0f));
-  float f_dielectric = mr->specular_weight * schlick_scalar(bp_max3(mr->dielectric_f0), weight);
+  float f_dielectric = mr->density_specular_weight * schlick_scalar(mr->density_f0_max, weight);
   float f_metal = schlick_scalar(mr->density_base_max, weight);
   float m = mr->density_metallic;
   float specular = (1.0f - m) * f_dielectric + m * f_metal;
@@ -63,7 +67,7 @@ BP_FN float metallic_roughness_specular_probability(const MetallicRoughness* mr,
 // over [0, 1] is 1/21). Positive wherever f can be.
 BP_FN float metallic_roughness_continuation(const MetallicRoughness* mr) {
   const float mean_weight = 1.0f / 21.0f;
-  float f_dielectric = mr->specular_weight * schlick_scalar(bp_max3(mr->dielectric_f0), mean_weight);
+  float f_dielectric = mr->density_specular_weight * schlick_scalar(mr->density_f0_max, mean_weight);
   float f_metal = schlick_scalar(mr->density_base_max, mean_weight);
   float m = mr->density_metallic;
   float albedo = (1.0f - m) * (f_dielectric + (1.0f - f_dielectric) * mr->density_base_max) + m * f_metal;

@@ -1,8 +1,8 @@
 // glTF textures (DESIGN.md §6): every image's texels in one buffer (RGBA8, one bp_u32 per texel, rows
 // top to bottom as glTF's uv (0, 0) is the image's top-left corner), a view per use of an image by
 // a material (sampler, KHR_texture_transform, texcoord set, sRGB or linear), and the material's
-// factors, so a hit's base colour, metallic, roughness, emission and alpha are evaluated the same way
-// here, in the host's per-patch means and in the host tests. No OpenCL image objects.
+// factors, so a hit's base colour, metallic, roughness, emission, specular and alpha are evaluated
+// the same way here, in the host's per-patch means and in the host tests. No OpenCL image objects.
 #ifndef BP_SHARED_TEXTURE_H
 #define BP_SHARED_TEXTURE_H
 #include "shared/compat.h"
@@ -41,7 +41,11 @@ typedef struct {
   float roughness_factor;
   bp_u32 normal;              // normalTexture: RGB linear, a tangent-space normal (shared/normal_map.h)
   float normal_scale;         // normalTexture.scale: multiplies the map's x and y
-  float pad;
+  bp_u32 specular;            // KHR_materials_specular's specularTexture: A linear
+  bp_u32 specular_color;      // its specularColorTexture: RGB sRGB
+  float specular_factor;      // specularFactor
+  float specular_f0[3];       // ((ior - 1)/(ior + 1))^2 specularColorFactor, before the texel and the cap at 1
+  float pad[3];
 } MaterialTextures;
 
 // Everything a texel lookup reads. uv_slots: texcoord sets stored per triangle (texcoords holds
@@ -136,11 +140,14 @@ BP_FN Texel texture_at(const TextureSet* set, bp_u32 view, bp_u32 triangle, floa
 
 // A surface point's material, from the factors and the texels.
 typedef struct {
-  float3 base_color;  // baseColorFactor x texel (linear)
-  float metallic;     // metallicFactor x B of metallicRoughnessTexture
-  float roughness;    // roughnessFactor x G of metallicRoughnessTexture
+  float3 base_color;      // baseColorFactor x texel (linear)
+  float metallic;         // metallicFactor x B of metallicRoughnessTexture
+  float roughness;        // roughnessFactor x G of metallicRoughnessTexture
   float3 emission;
   float alpha;
+  int specular_textured;  // the two below come from specular textures (else the Material's hold)
+  float3 dielectric_f0;   // min(f0(ior) specularColorFactor x specularColorTexture, 1)
+  float specular_weight;  // specularFactor x A of specularTexture
 } TexelMaterial;
 
 // The material at barycentrics (b1, b2) of `triangle`, whose material has textures `mt`.
@@ -164,7 +171,17 @@ BP_FN TexelMaterial texel_material(const TextureSet* set, const MaterialTextures
     Texel t = texture_at(set, mt->emissive, triangle, b1, b2);
     emission = emission * make_float3(t.r, t.g, t.b);
   }
+  // KHR_materials_specular: specular = specularFactor x A, dielectric_f0 = min(f0(ior) x specularColor, 1)
   TexelMaterial out;
+  out.specular_textured = mt->specular != BP_NO_TEXTURE || mt->specular_color != BP_NO_TEXTURE;
+  out.specular_weight = mt->specular_factor;
+  if (mt->specular != BP_NO_TEXTURE) out.specular_weight *= texture_at(set, mt->specular, triangle, b1, b2).a;
+  float3 f0 = make_float3(mt->specular_f0[0], mt->specular_f0[1], mt->specular_f0[2]);
+  if (mt->specular_color != BP_NO_TEXTURE) {
+    Texel t = texture_at(set, mt->specular_color, triangle, b1, b2);
+    f0 = f0 * make_float3(t.r, t.g, t.b);
+  }
+  out.dielectric_f0 = fmin(f0, make_float3(1.0f, 1.0f, 1.0f));
   out.base_color = base;
   out.metallic = metallic;
   out.roughness = roughness;
@@ -194,7 +211,8 @@ BP_FN int alpha_is_surface(const TextureSet* set, bp_u32 material, bp_u32 triang
 
 // True where the material's f or emission has textures (the others keep their Material as it is).
 BP_FN int material_is_textured(const MaterialTextures* mt) {
-  return mt->base_color != BP_NO_TEXTURE || mt->metallic_roughness != BP_NO_TEXTURE || mt->emissive != BP_NO_TEXTURE;
+  return mt->base_color != BP_NO_TEXTURE || mt->metallic_roughness != BP_NO_TEXTURE || mt->emissive != BP_NO_TEXTURE ||
+         mt->specular != BP_NO_TEXTURE || mt->specular_color != BP_NO_TEXTURE;
 }
 
 // True where the material has a normalTexture (its shading normal is per texel: shared/normal_map.h).

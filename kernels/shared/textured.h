@@ -9,15 +9,19 @@
 // bsdf (from the patch's mean Material) with f and the emission of a texel's material. Textured
 // materials are glTF's: the metallic-roughness BRDF, or where it reduces to Lambert (metallic and
 // specular 0, the loader's choice) kd = base colour (1 - metallic).
-BP_FN void bsdf_take_texel(Bsdf* bsdf, float3 base_color, float metallic, float roughness, float3 emission) {
+BP_FN void bsdf_take_texel(Bsdf* bsdf, const TexelMaterial* t) {
   if (bsdf_is_ggx(bsdf)) {
-    bsdf->metallic_roughness.base_color = base_color;
-    bsdf->metallic_roughness.metallic = metallic;
-    bsdf->metallic_roughness.alpha = ggx_alpha_from_roughness(roughness);
+    bsdf->metallic_roughness.base_color = t->base_color;
+    bsdf->metallic_roughness.metallic = t->metallic;
+    bsdf->metallic_roughness.alpha = ggx_alpha_from_roughness(t->roughness);
+    if (t->specular_textured) {  // KHR_materials_specular's textures: f's Fresnel, not the weights' (density_*)
+      bsdf->metallic_roughness.dielectric_f0 = t->dielectric_f0;
+      bsdf->metallic_roughness.specular_weight = t->specular_weight;
+    }
   } else {
-    bsdf->kd = base_color * (1.0f - metallic);
+    bsdf->kd = t->base_color * (1.0f - t->metallic);
   }
-  bsdf->emission = emission;
+  bsdf->emission = t->emission;
 }
 
 // The same with the texel at barycentrics (b1, b2) of `triangle`, where its material is textured.
@@ -25,7 +29,7 @@ BP_FN void bsdf_apply_texel(Bsdf* bsdf, const TextureSet* set, bp_u32 material, 
   MaterialTextures mt = set->materials[material];
   if (!material_is_textured(&mt)) return;
   TexelMaterial t = texel_material(set, &mt, triangle, b1, b2);
-  bsdf_take_texel(bsdf, t.base_color, t.metallic, t.roughness, t.emission);
+  bsdf_take_texel(bsdf, &t);
 }
 
 #endif  // BP_SHARED_TEXTURED_H

@@ -127,6 +127,15 @@ BP_FN float eye_direct_proxy_pdf_uv(const Bsdf* b, float cos_theta_in) {
   return b->continuation * (b->p_diffuse * pdf_uv_cosine(cos_theta_in) + lobe_peak);
 }
 
+// The proxy of the eye vertex's material itself (its factors), not of its patch's texture means: RB
+// spreads its eye-vertex weights over neighbouring patches (Gouraud corners), and PT's pixel must
+// read the same number as every neighbour of one material, whatever the texels (for untextured
+// materials the two are the same). Used by both sides for --eye-direct shared.
+BP_FN float eye_direct_material_proxy_pdf_uv(BP_GLOBAL const Material* m, float cos_theta_in) {
+  Bsdf b = bsdf_from_material(m);
+  return eye_direct_proxy_pdf_uv(&b, cos_theta_in);
+}
+
 // The eye vertex's direct light shared between the four techniques (DESIGN.md §3, "Sharing the eye
 // vertex's direct light with RB"): the empty prefix, RB's share from the proxy density, PT's split
 // by its true one:

@@ -1,7 +1,8 @@
 // glTF's metallic-roughness BRDF in both estimators (DESIGN.md §11): a GGX surface under a uniform
 // environment reflects exactly its directional albedo -- PT alone, RB alone and combined, with and
 // without light sampling -- and in a closed box with a rough gold floor and plastic walls the product
-// combination converges to the path tracer's answer, with the power to see a 2 % bias.
+// combination converges to the path tracer's answer, with the power to see a 2 % bias, also with
+// KHR_materials_specular's textures finer than the patches.
 #include "device/device_scene.h"
 #include "kernel/device_fixture.h"
 #include "kernel/region_test.h"
@@ -86,9 +87,11 @@ glm::dvec3 directional_albedo(const Material& material, float3 wo) {
   return sum;
 }
 
-// The large regions (channel means) of the exact image.
-std::vector<double> exact_regions(const Scene& scene) {
-  const std::vector<Material> materials = pack_materials(scene, LightList{});  // as the device gets them
+// The large regions (channel means) of the exact image. `texel_materials`: where given, the plane's
+// f is the first left of x = 0 and the second right of it (a texture's two halves), else the scene's.
+std::vector<double> exact_regions(const Scene& scene, const std::vector<Material>& texel_materials = {}) {
+  const std::vector<Material> materials =
+      texel_materials.empty() ? pack_materials(scene, LightList{}) : texel_materials;  // as the device gets them
   // E depends on the angle of wo alone (an isotropic BRDF): a table over the image's angles, linear
   // between its 65 entries (the interpolation error is far below the quadrature's)
   const CameraParams camera = pack_camera(scene.camera, kFurnaceSize, kFurnaceSize);
@@ -103,15 +106,19 @@ std::vector<double> exact_regions(const Scene& scene) {
       hi = std::max(hi, std::acos(double(-d.y)));
     }
   const int entries = 65;
-  std::vector<glm::dvec3> table(entries);
-  for (int k = 0; k < entries; ++k) {
-    const double theta = lo + (hi - lo) * k / (entries - 1);
-    table[k] = directional_albedo(materials[0], make_float3(float(std::sin(theta)), float(std::cos(theta)), 0.0f));
-  }
+  const std::size_t kinds = texel_materials.empty() ? 1 : 2;
+  std::vector<std::vector<glm::dvec3>> tables(kinds, std::vector<glm::dvec3>(entries));
+  for (std::size_t m = 0; m < kinds; ++m)
+    for (int k = 0; k < entries; ++k) {
+      const double theta = lo + (hi - lo) * k / (entries - 1);
+      tables[m][k] = directional_albedo(materials[m], make_float3(float(std::sin(theta)), float(std::cos(theta)), 0.0f));
+    }
   ImageRGB exact(kFurnaceSize, kFurnaceSize);
   for (int p = 0; p < kFurnaceSize * kFurnaceSize; ++p) {
     const double u = (std::acos(double(wo[p].y)) - lo) / (hi - lo) * (entries - 1);
     const int k = std::min(entries - 2, int(u));
+    // the camera is above x = 0: a pixel's ray reaches the plane left of it where it points left
+    const std::vector<glm::dvec3>& table = tables[kinds == 2 && -wo[p].x > 0.0f ? 1 : 0];
     const glm::dvec3 e = table[k] + (table[k + 1] - table[k]) * (u - k);
     for (int c = 0; c < 3; ++c) exact.pixel(p % kFurnaceSize, p / kFurnaceSize)[c] = float(e[c]);
   }
@@ -141,9 +148,7 @@ ImageRGB furnace_render(const Scene& scene, const FurnaceCase& fc, std::uint32_t
   return render_combined(scene, kFurnaceSize, kFurnaceSize, cs).combined;
 }
 
-void expect_furnace_exact(const SceneMaterial& material, const char* what) {
-  const Scene scene = make_environment_plane(material);
-  const std::vector<double> exact = exact_regions(scene);
+void expect_furnace_exact(const Scene& scene, const std::vector<double>& exact, const char* what) {
   const std::vector<FurnaceCase> cases = {
       {"PT alone", 1, 0, 64, false, false},
       {"PT alone, light sampling", 1, 0, 32, true, false},
@@ -167,6 +172,11 @@ void expect_furnace_exact(const SceneMaterial& material, const char* what) {
   }
 }
 
+void expect_furnace_exact(const SceneMaterial& material, const char* what) {
+  const Scene scene = make_environment_plane(material);
+  expect_furnace_exact(scene, exact_regions(scene), what);
+}
+
 TEST(GgxFurnace, RoughWhiteMetalReflectsItsDirectionalAlbedoInBothEstimators) {
   // F0 = 1: the image is GGX's single-scattering albedo, about 0.9 here
   expect_furnace_exact(ggx_material(glm::vec3(1.0f), 1.0f, 0.5f), "white metal r0.5");
@@ -175,6 +185,57 @@ TEST(GgxFurnace, RoughWhiteMetalReflectsItsDirectionalAlbedoInBothEstimators) {
 TEST(GgxFurnace, GlossyPlasticReflectsItsDirectionalAlbedoInBothEstimators) {
   // both lobes, chosen per direction by the Fresnel-aware estimate; Fresnel grows towards grazing
   expect_furnace_exact(ggx_material(glm::vec3(0.7f, 0.3f, 0.1f), 0.0f, 0.2f), "plastic r0.2");
+}
+
+// Textures: a 2 x 1 texture (NEAREST) whose texels the plane's halves x < 0 and x > 0 read as base
+// colour and as KHR_materials_specular's specular and colour, one patch across the view (2 m
+// patches). Each half reflects its own texel's albedo in every estimator: the path tracer's hits and
+// RB's eye gather read the texel, not the patch's mean (which the weights read); and with the eye
+// vertex's direct light shared, RB's Gouraud corners mix neighbouring patches' weights, which must be
+// the pixel's own (the material's proxy, eye_direct_material_proxy_pdf_uv).
+TEST(GgxFurnace, TexturedHalvesReflectTheirOwnTexelsAlbedoInBothEstimators) {
+  SceneMaterial m = ggx_material(glm::vec3(0.6f), 0.0f, 0.5f);
+  const std::uint32_t rgba[2] = {0xff2880ffu, 0x33c8ff3cu};  // (255, 128, 40, 255) and (60, 255, 200, 51)
+  Scene scene = make_environment_plane(m);
+  scene.texels = {rgba[0], rgba[1]};
+  for (int srgb = 0; srgb < 2; ++srgb) {  // a linear view (specular: A) and an sRGB one (the colours)
+    TextureView v{};
+    v.width = 2;
+    v.height = 1;
+    v.flags = BP_WRAP_CLAMP_TO_EDGE | BP_WRAP_CLAMP_TO_EDGE << BP_TEXTURE_WRAP_T_SHIFT | BP_TEXTURE_NEAREST |
+              (srgb ? BP_TEXTURE_SRGB : 0u);
+    v.transform[0] = v.transform[3] = 1.0f;
+    scene.texture_views.push_back(v);
+  }
+  scene.uv_slots = 1;
+  MaterialTextures& t = scene.materials[0].textures;
+  t.specular = 0;        // A, linear
+  t.specular_color = 1;  // RGB, sRGB
+  t.base_color = 1;
+  t.specular_factor = 1.0f;
+  for (int c = 0; c < 3; ++c) {
+    t.specular_f0[c] = 0.04f * 15.0f;  // specularColorFactor 15
+    t.base_color_factor[c] = m.base_color[c];
+  }
+  t.metallic_factor = m.metallic;
+  t.roughness_factor = m.roughness;
+  for (SceneTriangle& tri : scene.triangles)
+    for (int k = 0; k < 3; ++k) tri.uv[0][k] = glm::vec2(tri.p[k].x > 0.0f ? 1.0f : 0.0f, 0.5f);
+  // each half's f, from its texel as glTF defines it: base colour = factor sRGB(rgb), specular = A,
+  // f0 = min(f0(ior) 15 sRGB(rgb), 1)
+  std::vector<Material> halves(2, pack_materials(scene, LightList{})[0]);
+  for (int h = 0; h < 2; ++h) {
+    const std::uint32_t texel = rgba[h];
+    halves[h].specular_weight = float(texel >> 24) / 255.0f;
+    for (int c = 0; c < 3; ++c) {
+      const float colour = srgb_to_linear(float(texel >> (8 * c) & 0xffu) / 255.0f);
+      halves[h].base_color[c] = m.base_color[c] * colour;
+      halves[h].dielectric_f0[c] = std::min(1.0f, 0.6f * colour);
+    }
+  }
+  const std::vector<double> exact = exact_regions(scene, halves);
+  ASSERT_GT(std::fabs(exact[1] / exact[2] - 1.0), 0.05) << "the halves must differ enough to see";
+  expect_furnace_exact(scene, exact, "textured r0.5");
 }
 
 // ---------------------------------------------------------------- the combination in a closed box
@@ -191,6 +252,40 @@ Scene make_ggx_light_box() {
     if (t.p[0].z == -0.5f && t.p[1].z == -0.5f && t.p[2].z == -0.5f) t.material = plastic;
     if (t.p[0].x == -0.5f && t.p[1].x == -0.5f && t.p[2].x == -0.5f) t.material = half_metal;
   }
+  return scene;
+}
+
+// The same box with KHR_materials_specular's textures on the plastic back wall: a 32 x 32 checker of
+// specular (alpha 1 or 0.12) and colour, its cells 3 cm across, finer than the 5 cm patches, so f's
+// Fresnel changes within a patch while every weight input reads the patch's mean (textured.h).
+Scene make_specular_textured_box() {
+  Scene scene = make_ggx_light_box();
+  const std::uint32_t plastic = std::uint32_t(scene.materials.size() - 2);
+  const int side = 32;
+  for (int j = 0; j < side; ++j)
+    for (int i = 0; i < side; ++i)
+      scene.texels.push_back((i + j) % 2 ? 0xffc83cffu : 0x1e5aff28u);  // ABGR: (255, 60, 200, 255), (40, 255, 90, 30)
+  for (int srgb = 0; srgb < 2; ++srgb) {
+    TextureView v{};
+    v.width = v.height = side;
+    v.flags = BP_WRAP_REPEAT | BP_WRAP_REPEAT << BP_TEXTURE_WRAP_T_SHIFT | (srgb ? BP_TEXTURE_SRGB : 0u);
+    v.transform[0] = v.transform[3] = 1.0f;
+    scene.texture_views.push_back(v);
+  }
+  scene.uv_slots = 1;
+  SceneMaterial& m = scene.materials[plastic];
+  MaterialTextures& t = m.textures;
+  t.specular = 0;        // A: specular
+  t.specular_color = 1;  // RGB (sRGB): its colour
+  t.specular_factor = 1.0f;
+  for (int c = 0; c < 3; ++c) {
+    t.specular_f0[c] = 0.04f * 20.0f;  // specularColorFactor 20: f0 up to 0.8
+    t.base_color_factor[c] = m.base_color[c];
+  }
+  t.metallic_factor = m.metallic;
+  t.roughness_factor = m.roughness;
+  for (SceneTriangle& tri : scene.triangles)
+    for (int k = 0; k < 3; ++k) tri.uv[0][k] = glm::vec2(tri.p[k].x + 0.5f, 0.5f - tri.p[k].y);
   return scene;
 }
 
@@ -211,8 +306,7 @@ Runs collect_runs(int runs, Render render) {
   return out;
 }
 
-void expect_combination_matches_pt(bool light_sampling, bool eye_shared) {
-  const Scene scene = make_ggx_light_box();
+void expect_combination_matches_pt(const Scene& scene, bool light_sampling, bool eye_shared) {
   const int runs = 12;
   const Runs reference = collect_runs(runs, [&](std::uint32_t seed) {
     return render_pt(scene, kSize, kSize, 512, seed, 65536, light_sampling).image;
@@ -252,10 +346,18 @@ void expect_combination_matches_pt(bool light_sampling, bool eye_shared) {
   }
 }
 
-TEST(GgxCombination, ProductWeightsConvergeToThePathTracedReference) { expect_combination_matches_pt(false, false); }
+TEST(GgxCombination, ProductWeightsConvergeToThePathTracedReference) {
+  expect_combination_matches_pt(make_ggx_light_box(), false, false);
+}
 
 TEST(GgxCombination, ProductWeightsWithLightSamplingConvergeToThePathTracedReference) {
-  expect_combination_matches_pt(true, true);
+  expect_combination_matches_pt(make_ggx_light_box(), true, true);
+}
+
+TEST(GgxCombination, SpecularTexturesUnderTheProductWeightsConvergeToThePathTracedReference) {
+  const Scene scene = make_specular_textured_box();
+  ASSERT_TRUE(scene.materials[scene.materials.size() - 2].textured());
+  expect_combination_matches_pt(scene, true, true);
 }
 
 }  // namespace

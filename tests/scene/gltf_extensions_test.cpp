@@ -144,14 +144,6 @@ TEST(GltfExtensions, OcclusionTextureWarnedOncePerScene) {
   EXPECT_TRUE(has_warning(s, "occlusionTexture ignored: occlusion is computed by the renderer (2 material(s))"));
 }
 
-TEST(GltfExtensions, SpecularTexturesWarned) {
-  json doc = triangle_doc();
-  doc["textures"] = json::array({json::object()});
-  use(doc, "KHR_materials_specular", false);
-  doc["materials"][0]["extensions"]["KHR_materials_specular"] = {{"specularTexture", {{"index", 0}}}};
-  EXPECT_TRUE(has_warning(load(doc), "KHR_materials_specular specularTexture and specularColorTexture ignored"));
-}
-
 // KHR_mesh_quantization: POSITION as normalized shorts (32767 -> 1), read only where the file uses it.
 TEST(GltfExtensions, QuantizedPositionsAreRead) {
   json doc = triangle_doc();

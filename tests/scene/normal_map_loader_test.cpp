@@ -1,6 +1,7 @@
 // glTF normal maps on the host (DESIGN.md §6): normalTexture (linear, its scale and texCoord), TANGENT
 // read, placed by the node (mirrored too) and checked, and tangents generated where it is missing.
-// The files are written here: a unit quad in z = 0 facing +z, with a 2 x 2 normal map as a data: URI.
+// The files are written here: a unit quad in z = 0 facing +z, with a 2 x 2 normal map as a data: URI;
+// the same quad carries the KHR_materials_specular texture test.
 #include "device/kernel_features.h"
 #include "scene/gltf_loader.h"
 #include "scene/gltf_test_util.h"
@@ -27,6 +28,7 @@ struct QuadFile {
   json normal_texture = {{"index", 0}, {"scale", 0.5}};
   std::string tangent_type = "VEC4";
   int tangent_count = 4;
+  json specular = {{"specularFactor", 0.0}};  // the material's KHR_materials_specular
 };
 
 std::string png_2x2() {
@@ -87,7 +89,7 @@ std::string quad_gltf(const QuadFile& q) {
        {{{"name", "bumpy"},
          {"normalTexture", q.normal_texture},
          {"pbrMetallicRoughness", {{"metallicFactor", 0.0}}},
-         {"extensions", {{"KHR_materials_specular", {{"specularFactor", 0.0}}}}}}}},
+         {"extensions", {{"KHR_materials_specular", q.specular}}}}}},
       {"textures", {{{"source", 0}}}},
       {"images", {{{"uri", "data:image/png;base64," + test::base64(png_2x2())}}}},
       {"buffers", {{{"byteLength", bin.size()}, {"uri", "data:application/octet-stream;base64," + test::base64(bin)}}}},
@@ -112,6 +114,43 @@ void expect_tangents(const Scene& s, glm::vec4 expected, const std::string& what
       for (int c = 0; c < 4; ++c) EXPECT_NEAR(t.tangent[k][c], expected[c], 1e-5f) << what << ": corner " << k << " component " << c;
       EXPECT_NEAR(glm::dot(glm::vec3(t.tangent[k]), t.normal[k]), 0.0f, 1e-5f) << what << ": orthogonal to the normal";
     }
+}
+
+// KHR_materials_specular's textures (the quad's PNG): specularTexture a linear view (its alpha),
+// specularColorTexture an sRGB one, each with its texCoord and KHR_texture_transform; the factors
+// they multiply kept beside them (texel_material), f0 before the cap at 1; no warning.
+TEST(GltfSpecularTextures, AreViewsWithTheFactorsTheyMultiply) {
+  QuadFile q;
+  q.specular = {{"specularFactor", 0.7},
+                {"specularColorFactor", {30.0, 1.0, 0.5}},
+                {"specularTexture", {{"index", 0}, {"texCoord", 1}}},
+                {"specularColorTexture", {{"index", 0}, {"extensions", {{"KHR_texture_transform", {{"rotation", 0.5}}}}}}}};
+  const Scene s = load_quad(q);
+  const SceneMaterial& m = s.materials[1];
+  EXPECT_TRUE(m.textured()) << "specular textures make f textured";
+  EXPECT_TRUE(m.ggx);
+  ASSERT_NE(m.textures.specular, BP_NO_TEXTURE);
+  ASSERT_NE(m.textures.specular_color, BP_NO_TEXTURE);
+  const TextureView& spec = s.texture_views[m.textures.specular];
+  const TextureView& colour = s.texture_views[m.textures.specular_color];
+  EXPECT_EQ(spec.flags & BP_TEXTURE_SRGB, 0u) << "specularTexture is linear";
+  EXPECT_NE(colour.flags & BP_TEXTURE_SRGB, 0u) << "specularColorTexture is sRGB";
+  EXPECT_NEAR(s.triangles[0].uv[spec.uv_slot][1].x, 2.0f, 1e-6f) << "texCoord 1 reads TEXCOORD_1";
+  EXPECT_NEAR(colour.transform[1], std::sin(0.5f), 1e-6f) << "KHR_texture_transform read";
+  EXPECT_FLOAT_EQ(m.textures.specular_factor, 0.7f);
+  EXPECT_NEAR(m.textures.specular_f0[0], 0.04f * 30.0f, 1e-6f) << "f0 before the cap (the texel may lower it)";
+  EXPECT_NEAR(m.textures.specular_f0[2], 0.02f, 1e-6f);
+  EXPECT_FLOAT_EQ(m.dielectric_f0.x, 1.0f) << "the untextured f0 is capped";
+  for (const std::string& w : s.warnings) EXPECT_EQ(w.find("specular"), std::string::npos) << w;
+
+  q.specular["specularTexture"] = {{"index", "zero"}};
+  try {
+    load_quad(q);
+    ADD_FAILURE() << "a malformed specularTexture loaded";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("KHR_materials_specular.specularTexture is malformed"), std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(GltfNormalMaps, NormalTextureIsALinearViewWithItsScaleAndTexCoord) {

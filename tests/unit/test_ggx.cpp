@@ -332,7 +332,17 @@ TEST(GgxWeights, ContinuationAndLobeChoiceDependOnTheMaterialNormalAndWoAlone) {
   const float3 wo = dir_from_angles(0.9, 0.2), wi = dir_from_angles(0.4, 2.0);
   const float pdf = bsdf_pdf_uv(&b, kNormal, wi, wo);
   const float p_specular = metallic_roughness_specular_probability(&b.metallic_roughness, wo.z);
-  bsdf_take_texel(&b, make_float3(0.1f, 0.9f, 0.3f), 0.9f, 0.1f, make_float3(0, 0, 0));  // a texel's f
+  const float3 f_before = bsdf_eval(&b, kNormal, wi, wo);
+  TexelMaterial t{};  // a texel's f, its specular textured too (KHR_materials_specular)
+  t.base_color = make_float3(0.1f, 0.9f, 0.3f);
+  t.metallic = 0.2f;
+  t.roughness = 0.1f;
+  t.specular_textured = 1;
+  t.dielectric_f0 = make_float3(0.5f, 0.2f, 0.9f);
+  t.specular_weight = 0.3f;
+  bsdf_take_texel(&b, &t);
+  EXPECT_NE(bsdf_eval(&b, kNormal, wi, wo).x, f_before.x);
+  EXPECT_EQ(b.metallic_roughness.specular_weight, 0.3f);  // f takes the texel's Fresnel
   EXPECT_NE(bsdf_eval(&b, kNormal, wi, wo).x, 0.0f);
   EXPECT_EQ(bsdf_pdf_uv(&b, kNormal, wi, wo), pdf);
   EXPECT_EQ(metallic_roughness_continuation(&b.metallic_roughness), s);
