@@ -310,14 +310,14 @@ static float4 rb_direct_received(__global const BundleElement* elements, __globa
   if (le.x + le.y + le.z <= 0.0f) return (float4)(0.0f);
   float p_light = light_pdf_uv_area(light_pdf_area_from(light_set, materials, receiver_patch, sender_patch, se->material),
                                     distance, fabs(dot(bp_load3(se->normal), travel)));
-  Bsdf receiver =
-      bsdf_from_material(rb_material(materials, patch_materials, uv_slots, elements[receiver_element].material, receiver_patch));
   float3 wi = facing(n_receiver, travel);
   float w;
   if (eye_vertex) {
     float proxy = eye_direct_material_proxy_pdf_uv(&materials[elements[receiver_element].material], dot(n_receiver, wi));
     w = eye_segment_weights(it->weight_ratio, it->light_rate, proxy, 0.0f, p_light, 0).rb_bundle;
   } else {
+    Bsdf receiver = bsdf_from_material(
+        rb_material(materials, patch_materials, uv_slots, elements[receiver_element].material, receiver_patch));
     float3 wo = facing(n_receiver, bp_private3(it->omega_next));
     float pdf_bsdf = receiver.continuation * bsdf_pdf_uv(&receiver, n_receiver, wi, wo);
     w = last_segment_weights(1.0f, it->weight_ratio, it->light_rate, pdf_bsdf, p_light, 0).rb_bundle;
@@ -341,8 +341,6 @@ static float4 rb_environment_received(__global const BundleElement* elements, __
   if (c != direct && c != eye) return (float4)(env.x, env.y, env.z, 0.0f);
   // the back of a one-sided element has no patch to receive it (nor to choose lights for)
   if (env.x + env.y + env.z <= 0.0f || receiver_patch == BP_NO_PATCH) return (float4)(0.0f);
-  Bsdf receiver =
-      bsdf_from_material(rb_material(materials, patch_materials, uv_slots, elements[receiver_element].material, receiver_patch));
   float3 wi = facing(n_receiver, travel);
   float p_light = light_pdf_uv_environment(light_set, receiver_patch, it->environment_light, -travel);
   float w;
@@ -350,6 +348,8 @@ static float4 rb_environment_received(__global const BundleElement* elements, __
     float proxy = eye_direct_material_proxy_pdf_uv(&materials[elements[receiver_element].material], dot(n_receiver, wi));
     w = eye_segment_weights(it->weight_ratio, it->light_rate, proxy, 0.0f, p_light, 0).rb_bundle;
   } else {
+    Bsdf receiver = bsdf_from_material(
+        rb_material(materials, patch_materials, uv_slots, elements[receiver_element].material, receiver_patch));
     float3 wo = facing(n_receiver, bp_private3(it->omega_next));
     float pdf_bsdf = receiver.continuation * bsdf_pdf_uv(&receiver, n_receiver, wi, wo);
     w = last_segment_weights(1.0f, it->weight_ratio, it->light_rate, pdf_bsdf, p_light, 0).rb_bundle;

@@ -100,7 +100,9 @@ static void add_light_sample(const SceneRefs* scene, const PathTraceParams* para
   // f cos L / p_solid  (the light-sampling estimator of the rendering equation's integral)
   float3 contribution = throughput * through * v.f * ls.radiance_over_pdf * cos_shading;
   LastSegmentWeights w = pt_last_segment_weights(params, depth, prefix_beta, pdf_bsdf_patch, pdf_bsdf,
-                                                 eye_direct_material_proxy_pdf_uv(&scene->materials[surface->material], cos_x),
+                                                 depth == 0u ? eye_direct_material_proxy_pdf_uv(
+                                                                   &scene->materials[surface->material], cos_x)
+                                                             : 0.0f,  // read at the eye vertex alone
                                                  ls.pdf_uv, ls.is_delta);
   // --rb-sun own: RB's patches also take samples of the sun of their own, at every vertex but the
   // eye's (whose share, under --eye-direct shared, RB takes from its chosen sample alone)
