@@ -75,7 +75,8 @@ options:
   --mode MODE         pt (path tracing), rb (global ray-bundle iteration) or combined (both,
                       weighted per path so the sum stays unbiased)                 [combined]
   --ratio C           combined: PT samples per pixel per RB iteration (1/16, 4; 0: RB alone),
-                      or auto: timed on the scene and device, the choice printed      [auto]
+                      or auto: timed on the scene and device (more PT where it is glossy),
+                      the choice printed                                              [auto]
   --device SPEC       index or name substring (see `bundlepath devices`), a comma-separated list
                       (combined: RB on the first, PT on the others), or all  [first GPU, else CPU]
   --seed K            random seed: same seed, device and options, the same image bit for bit [1]
@@ -164,7 +165,8 @@ estimator tuning (the defaults are measured: docs/results.md):
   --rb-shading S      RB's eye estimate: gouraud (interpolated across patches) or flat [gouraud]
   --rb-eye-gather G   Lambert pixels gathered once per 16 iterations (blocks, the same image to
                       float rounding) or every iteration (every)                  [blocks]
-  --error-batch N     RB iterations per batch of the error estimate                [64]
+  --error-batch N     RB iterations per batch of the error estimate (16 to 48 where --ratio
+                      auto expects fewer than 4 batches of 64 in --time)            [64]
   --error-levels L    also estimate from batches 2, 4, ... 2^(L-1) times longer, into --stats
                       (the check that the batches outlast RB's correlation)         [1]
 )";

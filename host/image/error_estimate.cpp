@@ -8,6 +8,13 @@
 
 namespace bp {
 
+std::uint64_t rb_error_batch_iterations(double expected_iterations) {
+  if (!std::isfinite(expected_iterations)) return kErrorBatchRbIterations;
+  const double blocks = std::floor(std::max(0.0, expected_iterations) / double(kErrorBatchesWanted * kErrorBatchRbBlock));
+  return std::uint64_t(std::clamp(blocks * double(kErrorBatchRbBlock), double(kErrorBatchRbBlock),
+                                  double(kErrorBatchRbIterations)));
+}
+
 BatchMeansErrorEstimate::BatchMeansErrorEstimate(int width, int height, std::uint64_t batch_rounds, int levels,
                                                  std::uint64_t first_round, const RoundSums* start) {
   const std::size_t n = std::size_t(width) * height * 3;

@@ -22,6 +22,14 @@ namespace bp {
 // (the lag-1 correlation of consecutive 64-iteration batch means is a few percent), while the eye
 // hits are re-jittered every 16 iterations, so a batch must hold whole blocks of 16 anyway.
 constexpr std::uint64_t kErrorBatchRbIterations = 64;
+// A render expected to hold fewer than this many such batches gets shorter ones, whole blocks of the
+// eye hits' 16, so that a short one at a large c still has an estimate (a glossy house at c = 1/2 in
+// 30 s: 80 iterations, one batch of 64). Few: the rb_bias check (kRbBiasMinPairedBatches) is not
+// started sooner by it.
+constexpr std::uint64_t kErrorBatchesWanted = 4;
+constexpr std::uint64_t kErrorBatchRbBlock = 16;
+// RB's batch for a render expected to run this many iterations (not finite: unknown).
+std::uint64_t rb_error_batch_iterations(double expected_iterations);
 
 // rb_bias_rel_mse counts RB's bias where its estimate is above this one-sided Student-t quantile
 // (a 5 % false alarm, student_t_95 in error_estimate.cpp) times its standard error, and only once

@@ -87,20 +87,30 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
 
 // Runs `step(first, count)` in batches that double (capped at max_batch) until `seconds` of timed
 // work are done (at least one step), adding the time and the count to *timed_seconds / *timed_count.
+// With min_steps: at least that many steps (and samples), none of more than 1 / min_steps of what fits.
 template <class Step>
 void time_until(double seconds, std::uint32_t max_batch, std::uint64_t first, Step step, double* timed_seconds,
-                std::uint64_t* timed_count) {
+                std::uint64_t* timed_count, int min_steps = 1) {
   std::uint32_t batch = 1;
-  while (*timed_count == 0 || *timed_seconds < seconds) {
+  const std::uint64_t count_before = *timed_count;
+  for (;;) {
     const auto t = std::chrono::steady_clock::now();
     step(first + *timed_count, batch);
     *timed_seconds += seconds_since(t);
     *timed_count += batch;
     const double per = *timed_seconds / double(*timed_count);
-    const double left = (seconds - *timed_seconds) / per;  // what still fits, in steps
+    const double fits = std::max(seconds / per, double(count_before + std::uint64_t(min_steps)));  // in all
+    const double left = fits - double(*timed_count);  // what still fits, in steps
     if (left < 1.0) break;
-    batch = std::uint32_t(std::clamp<double>(std::min(2.0 * batch, std::ceil(left)), 1.0, double(max_batch)));
+    const double spread = std::floor((fits - double(count_before)) / double(min_steps));  // min_steps fit
+    batch = std::uint32_t(std::clamp<double>(std::min({2.0 * batch, std::ceil(left), spread}), 1.0, double(max_batch)));
   }
+}
+
+ImageRGB average_of(const RoundSums& sums, int width, int height, double count) {
+  ImageRGB image(width, height);
+  for (std::size_t i = 0; i < image.rgb.size(); ++i) image.rgb[i] = float(sums.at(i) / count);
+  return image;
 }
 }  // namespace
 
@@ -111,8 +121,18 @@ ProbeImageSize probe_image_size(int width, int height) {
   return ProbeImageSize{std::max(1, int(std::lround(width * scale))), std::max(1, int(std::lround(height * scale)))};
 }
 
-RatioProbe probe_ratio(PathTracerPass& probe_pt, std::size_t pixels, RayBundlePass& rb,
-                       const std::vector<Accumulator*>& rb_accums, const RatioProbeBudget& budget) {
+double gloss_pt_time_share(double pt_variance_kept) {
+  if (!(pt_variance_kept > 0.0)) return 0.0;
+  const double a = std::sqrt(std::min(pt_variance_kept, 1.0));
+  return a / (a + std::sqrt(kAutoRatioRbVarianceOverPt));
+}
+
+double probed_pt_time_share(double base_share, double pt_variance_kept) {
+  return std::max(base_share, gloss_pt_time_share(pt_variance_kept));
+}
+
+RatioProbe probe_ratio(PathTracerPass& probe_pt, const Accumulator& probe_pt_accum, std::size_t pixels,
+                       RayBundlePass& rb, const std::vector<Accumulator*>& rb_accums, const RatioProbeBudget& budget) {
   const auto start = std::chrono::steady_clock::now();
   std::vector<Accumulator> rb_before;
   for (const Accumulator* a : rb_accums) rb_before.push_back(*a);
@@ -126,9 +146,8 @@ RatioProbe probe_ratio(PathTracerPass& probe_pt, std::size_t pixels, RayBundlePa
   const double first_launch_seconds = seconds_since(start);
   double pt_seconds = 0.0, rb_seconds = 0.0;
   std::uint64_t pt_count = 0, rb_count = 0;
-  const auto pt_step = [&](std::uint64_t f, std::uint32_t n) { probe_pt.run(f, n); };
   const auto rb_step = [&](std::uint64_t f, std::uint32_t n) { rb.run(f, n); };
-  time_until(0.0, 1, 0, pt_step, &pt_seconds, &pt_count);
+  time_until(0.0, 1, 0, [&](std::uint64_t f, std::uint32_t n) { probe_pt.run(f, n); }, &pt_seconds, &pt_count);
   time_until(0.0, 1, 1, rb_step, &rb_seconds, &rb_count);
   const double pt_scale = double(pixels) / (double(probe_pt.pixel_width()) * probe_pt.pixel_height());
   // The probe's size: a share of the render's time, estimated from these two when only a count is given.
@@ -136,16 +155,39 @@ RatioProbe probe_ratio(PathTracerPass& probe_pt, std::size_t pixels, RayBundlePa
   const double seconds =
       budget.seconds > 0.0 ? budget.seconds : double(budget.equal_time_spp) * pt_seconds / double(pt_count) * pt_scale;
   const AutoRatioBounds bounds{seconds, budget.iterations == 0};
+  const RoundShape first_guess = auto_ratio_shape(pt_seconds * pt_scale, rb_seconds, budget.pt_time_share, bounds);
   double render_seconds = seconds > 0.0 ? seconds : 1e30;
   if (budget.spp || budget.iterations) {
-    const RoundShape first_guess = auto_ratio_shape(pt_seconds * pt_scale, rb_seconds, budget.pt_time_share, bounds);
     const double rounds = budget.spp ? std::ceil(double(budget.spp) / first_guess.pt_samples)
                                      : std::ceil(double(budget.iterations) / first_guess.rb_iterations);
     render_seconds = std::min(render_seconds, rounds * (first_guess.pt_samples * pt_seconds * pt_scale +
                                                         first_guess.rb_iterations * rb_seconds));
   }
   const double probe_seconds = std::min(kAutoRatioProbeCapSeconds, kAutoRatioProbeShare * render_seconds);
-  time_until(probe_seconds / 2, probe_pt.max_batch(), 0, pt_step, &pt_seconds, &pt_count);
+
+  // PT's remaining probe samples under the weights of the costs' round, each launch a batch of the
+  // variance of its weighted and of its unweighted samples (from where the weights were set).
+  if (!first_guess.pt_alone()) {
+    const CombinedWeights weights = combined_weights(budget.weight_mode, first_guess);
+    probe_pt.set_weights(weights.mode, weights.ratio_n2_over_n1);
+  }
+  const int width = int(probe_pt.pixel_width()), height = int(probe_pt.pixel_height());
+  const std::vector<double> weighted_start = probe_pt_accum.sum, raw_start = probe_pt_accum.raw_sum;
+  const std::uint64_t variance_first = pt_count;
+  BatchMeansErrorEstimate weighted_variance(width, height, 1), raw_variance(width, height, 1);
+  const RoundSums weighted_sums{&probe_pt_accum.sum, 1.0, &weighted_start};
+  const RoundSums raw_sums{&probe_pt_accum.raw_sum, 1.0, &raw_start};
+  const auto pt_step = [&](std::uint64_t f, std::uint32_t n) {
+    probe_pt.run(f, n);
+    if (!probe_pt_accum.keeps_raw()) return;
+    weighted_variance.add(f + n - variance_first, weighted_sums);
+    raw_variance.add(f + n - variance_first, raw_sums);
+  };
+  // Enough batches for κ where they cost at most kAutoRatioProbeVarianceShare of the render.
+  const bool variance_affordable = kAutoRatioProbeMinPtBatches * pt_seconds / double(pt_count) <=
+                                   kAutoRatioProbeVarianceShare * render_seconds;
+  time_until(probe_seconds / 2, probe_pt.max_batch(), 0, pt_step, &pt_seconds, &pt_count,
+             variance_affordable ? kAutoRatioProbeMinPtBatches : 1);
   time_until(probe_seconds / 2, rb.max_batch(), 1, rb_step, &rb_seconds, &rb_count);
   for (std::size_t k = 0; k < rb_accums.size(); ++k) *rb_accums[k] = rb_before[k];
   rb.load_state(rb_before_state);
@@ -155,11 +197,18 @@ RatioProbe probe_ratio(PathTracerPass& probe_pt, std::size_t pixels, RayBundlePa
   probe.rb_seconds_per_iteration = rb_seconds / double(rb_count);
   probe.pt_samples = std::uint32_t(pt_count);
   probe.rb_iterations = std::uint32_t(rb_count);
-  probe.pt_image = ProbeImageSize{int(probe_pt.pixel_width()), int(probe_pt.pixel_height())};
-  probe.pt_time_share = budget.pt_time_share;
+  probe.pt_image = ProbeImageSize{width, height};
+  probe.pt_variance_batches = raw_variance.batches();
+  if (raw_variance.batches() >= std::uint64_t(kAutoRatioProbeMinPtBatches) && !first_guess.pt_alone()) {
+    // Both relMSEs against the unweighted samples' mean image: the same pixels' scale.
+    const ImageRGB raw_mean = average_of(raw_sums, width, height, double(raw_variance.rounds()));
+    const double raw_rel_mse = raw_variance.estimated_rel_mse(raw_mean);
+    if (raw_rel_mse > 0.0) probe.pt_variance_kept = weighted_variance.estimated_rel_mse(raw_mean) / raw_rel_mse;
+  }
+  probe.pt_time_share = probed_pt_time_share(budget.pt_time_share, probe.pt_variance_kept);
   probe.bounds = bounds;
   probe.chosen =
-      auto_ratio_shape(probe.pt_seconds_per_spp, probe.rb_seconds_per_iteration, budget.pt_time_share, bounds);
+      auto_ratio_shape(probe.pt_seconds_per_spp, probe.rb_seconds_per_iteration, probe.pt_time_share, bounds);
   probe.probe_seconds = seconds_since(start);
   probe.first_launch_seconds = first_launch_seconds;
   return probe;

@@ -62,6 +62,27 @@ constexpr double kAutoRatioPtTimeShareEyePt = 0.65;
 constexpr double kAutoRatioPtTimeShareRbCostly = 0.98;
 // The share for a render whose eye vertex's direct light is PT's alone (or not).
 double auto_ratio_pt_time_share(bool eye_direct_pt_alone);
+// Glossy scenes: the product weights leave PT the paths through sharp lobes at any c, so where much
+// of the image is seen through them RB's time buys little of it. The probe measures κ, the share of
+// PT's variance its weights keep: the relMSE of its weighted samples over that of the same samples
+// unweighted, at the costs' round. Model: the image's relMSE at PT time share f is
+// κ R_PT / f + β R_PT / (1 − f), R_PT the path tracer's alone at the same time, β the rest (RB's
+// part) in its units; its least is at f = √κ / (√κ + √β), and PT gets at least that.
+// β from fixed-c sweeps of the GGX house with its glossy materials at one roughness (640x360, 30 s,
+// seeds 1–2, bench/results/ggx-roughness/): at roughness 0.05 (κ ≈ 0.33) c = 1/2 was best (relMSE
+// 0.020–0.021 against 0.026 at 1/4, 0.023–0.025 at 1, PT's 0.023), at 0.15 (κ ≈ 0.19) c = 1/4 to 1/2
+// (0.010–0.013 against 0.015 at 1/8, PT's 0.019); PT's shares there, 0.71 and about 0.63, give
+// β = κ (1 − f)² / f² ≈ 0.055 and 0.064. At 0.3 (κ ≈ 0.05) c = 1/32 to 1/4 tie (0.0065–0.0085);
+// the Lambert and Phong houses (κ ≈ 0.001) keep kAutoRatioPtTimeShareEyeShared's 0.12. Between, the
+// GGX house (κ ≈ 0.02 at 100 k triangles, 0.009 at 1 M) moves from c = 1/32 (1/64) to 1/8 (1/32): its
+// relMSE 1.1x (1.25x), its worst 8x8 block 0.5x (0.7x): a little grain for half the regional error.
+constexpr double kAutoRatioRbVarianceOverPt = 0.06;
+double gloss_pt_time_share(double pt_variance_kept);   // 0 where κ is not known (NaN) or not positive
+double probed_pt_time_share(double base_share, double pt_variance_kept);  // the larger of the two
+// κ needs this many batches of PT's probe samples; the probe takes them where they cost at most
+// kAutoRatioProbeVarianceShare of the render's time (else κ is not measured).
+constexpr int kAutoRatioProbeMinPtBatches = 8;
+constexpr double kAutoRatioProbeVarianceShare = 0.05;
 // The probe's timed work: this share of the render's time (--time, or the time --spp / --iterations
 // would take, estimated from one sample and one iteration), at most kAutoRatioProbeCapSeconds.
 constexpr double kAutoRatioProbeShare = 0.02;
@@ -119,6 +140,8 @@ struct RatioProbe {
   double rb_seconds_per_iteration = 0.0;
   std::uint32_t pt_samples = 0, rb_iterations = 0;  // the timed ones (plus one untimed RB iteration)
   ProbeImageSize pt_image;                          // where the PT samples were taken
+  double pt_variance_kept = std::nan("");           // κ (gloss_pt_time_share); NaN: not measured
+  std::uint64_t pt_variance_batches = 0;            // the batches κ is from
   double probe_seconds = 0.0;                       // wall time of the whole probe
   double first_launch_seconds = 0.0;                // of which the untimed first launches
 };
@@ -130,6 +153,7 @@ struct RatioProbeBudget {
   std::uint64_t spp = 0, iterations = 0;
   double pt_time_share = kAutoRatioPtTimeShareEyeShared;  // what the round is chosen for
   std::uint64_t equal_time_spp = 0;  // no budget: the time this many PT samples per pixel take
+  std::uint32_t weight_mode = BP_WEIGHTS_PRODUCT;  // the render's (BP_WEIGHTS_*), for κ's samples
 };
 
 // A combined render with no budget (RenderSpec::equal_time_spp) takes as long as equal_time_spp PT
@@ -143,10 +167,12 @@ std::uint64_t equal_time_rounds(std::uint64_t equal_time_spp, const RoundShape& 
 // first launches; then at least one timed PT sample and RB iteration) and picks the round with
 // auto_ratio_shape. `pixels` is the render's. Nothing stays in the render's passes: the ray-bundle
 // accumulator and state (warm-up not done) are put back as they were, so the render that follows is
-// the one a fixed --ratio of the chosen c gives, bit for bit. The weights are the caller's to set.
+// the one a fixed --ratio of the chosen c gives, bit for bit.
 // rb_accums: every accumulator rb adds into (one per view).
-RatioProbe probe_ratio(PathTracerPass& probe_pt, std::size_t pixels, RayBundlePass& rb,
-                       const std::vector<Accumulator*>& rb_accums, const RatioProbeBudget& budget);
+// probe_pt adds into probe_pt_accum; where it keeps the unweighted sums, κ is measured on the
+// samples after the first, under the weights of the round the costs choose (probe_pt's are set).
+RatioProbe probe_ratio(PathTracerPass& probe_pt, const Accumulator& probe_pt_accum, std::size_t pixels,
+                       RayBundlePass& rb, const std::vector<Accumulator*>& rb_accums, const RatioProbeBudget& budget);
 
 class CombinedPass : public ProgressivePass {
  public:

@@ -103,11 +103,23 @@ void resume(RenderState& s) {
   s.earlier_seconds = c.render_seconds;
 }
 
-// The error estimate (DESIGN.md §9), one per view: each estimator's layer from batches of its own --
-// PT's of one round, RB's of kErrorBatchRbIterations iterations (--error-batch) in rounds.
-void start_error_estimate(RenderState& s) {
+// RB's error batch: --error-batch, else, under --time with the probe's costs, rb_error_batch_iterations
+// of the iterations expected. Not from --spp or --iterations alone: the batch is kept in a checkpoint,
+// and a render resumed to a larger count must be the uninterrupted one, its error layer included.
+static std::uint64_t rb_error_batch_of(const RenderState& s) {
   const RenderSpec& o = s.spec;
-  const std::uint64_t rb_batch_iterations = o.error_batch ? o.error_batch : kErrorBatchRbIterations;
+  if (o.error_batch) return o.error_batch;
+  if (!s.probe || !(o.seconds > 0.0) || !s.shape || s.shape->pt_alone()) return kErrorBatchRbIterations;
+  return rb_error_batch_iterations(expected_pt_spp(*s.shape, o.spp, o.iterations, o.seconds, s.probe->pt_seconds_per_spp,
+                                                   s.probe->rb_seconds_per_iteration) /
+                                   s.shape->ratio());
+}
+
+// The error estimate (DESIGN.md §9), one per view: each estimator's layer from batches of its own --
+// PT's of one round, RB's of rb_error_batch_iterations in rounds.
+void start_error_estimate(RenderState& s) {
+  const std::uint64_t rb_batch_iterations = rb_error_batch_of(s);
+  const RenderSpec& o = s.spec;
   const std::uint64_t rb_batch_rounds =
       s.shape ? (rb_batch_iterations + s.shape->rb_iterations - 1) / s.shape->rb_iterations : rb_batch_iterations;
   for (std::size_t k = 0; k < s.views.size(); ++k) {

@@ -229,15 +229,16 @@ void build_passes(RenderState& s) {
 static RatioProbe run_probe(RenderState& s, double pt_time_share) {
   const RenderSpec& o = s.spec;
   const ProbeImageSize size = probe_image_size(s.scene.width, s.scene.height);
-  Accumulator probe_accum(size.width, size.height, false);
+  Accumulator probe_accum(size.width, size.height, true);  // unweighted sums too: κ
   PathTracerPass probe_pt(s.pt_device().context, s.pt_device().scene,
                           pack_camera(s.first_view().scene_camera, size.width, size.height), s.pt_settings, probe_accum);
   std::vector<Accumulator*> rb_accums;
   for (RenderView& view : s.views) rb_accums.push_back(s.several_devices() ? s.rb_pass_accum : &view.rb_accum);
   // A walkthrough's round has every view's PT samples: the pixels of all views (the views' PT costs
   // per pixel taken as the first's).
-  return probe_ratio(probe_pt, std::size_t(s.scene.width) * s.scene.height * s.views.size(), *s.rb, rb_accums,
-                     RatioProbeBudget{o.seconds, o.spp, o.iterations, pt_time_share, o.equal_time_spp});
+  return probe_ratio(probe_pt, probe_accum, std::size_t(s.scene.width) * s.scene.height * s.views.size(), *s.rb,
+                     rb_accums,
+                     RatioProbeBudget{o.seconds, o.spp, o.iterations, pt_time_share, o.equal_time_spp, s.weight_mode});
 }
 
 // The probe's round: its time share's on one device; on several, where PT and RB run at the same
@@ -253,6 +254,11 @@ static void choose_probed_shape(RenderState& s) {
 static bool eye_direct_is_auto(const RenderState& s) {
   const bool eye_direct_auto = s.light_sampling && s.use_pt && s.use_rb && s.spec.eye_direct == "auto";
   return eye_direct_auto && !s.pt.empty() && s.rb && s.weight_mode == BP_WEIGHTS_PRODUCT;
+}
+
+// PT's time share where the eye vertex's direct light is its alone, at least the probe's glossy share.
+static double pt_alone_share(const RenderState& s) {
+  return probed_pt_time_share(auto_ratio_pt_time_share(true), s.probe ? s.probe->pt_variance_kept : std::nan(""));
 }
 
 // --ratio auto: the probe picks c (or a resumed render takes the checkpoint's); --eye-direct auto:
@@ -292,7 +298,7 @@ static void decide_auto_settings(RenderState& s, RenderObserver& observer) {
       // that choice's share, not at the smaller shared one (which would tip every short render to shared).
       const bool at_pt_share = ratio_is_auto(o) && !s.several_devices();
       const RoundShape shape =
-          at_pt_share ? auto_ratio_shape(t_pt, t_rb, auto_ratio_pt_time_share(true), s.probe ? s.probe->bounds : AutoRatioBounds{})
+          at_pt_share ? auto_ratio_shape(t_pt, t_rb, pt_alone_share(s), s.probe ? s.probe->bounds : AutoRatioBounds{})
                       : *s.shape;
       const double spp = expected_pt_spp(shape, o.spp, o.iterations, seconds, t_pt, t_rb);
       s.eye_direct_shared = spp < kEyeDirectSharedBelowSpp;
@@ -300,7 +306,7 @@ static void decide_auto_settings(RenderState& s, RenderObserver& observer) {
                                 s.eye_direct_shared ? "shared" : "pt", spp, at_pt_share ? " at pt's ratio" : ""));
     }
     if (!s.eye_direct_shared && s.probe) {  // PT's alone: the ratio for that share (kAutoRatioPtTimeShareEyePt)
-      s.probe->pt_time_share = auto_ratio_pt_time_share(true);
+      s.probe->pt_time_share = pt_alone_share(s);
       s.probe->chosen = auto_ratio_shape(s.probe->pt_seconds_per_spp, s.probe->rb_seconds_per_iteration,
                                          s.probe->pt_time_share, s.probe->bounds);
       choose_probed_shape(s);
@@ -313,9 +319,10 @@ static void decide_auto_settings(RenderState& s, RenderObserver& observer) {
                               s.pt.size(), s.probe->rb_seconds_per_iteration, s.probe->probe_seconds));
   else if (s.probe)
     observer.note(printf_text("--ratio auto: c = %s (PT %.4g s per sample per pixel, RB %.4g s per iteration, PT "
-                              "time share %.2f; probe %.2f s)",
+                              "time share %.2f, PT's weights keep %.3g of its variance; probe %.2f s)",
                               ratio_text(*s.shape).c_str(), s.probe->pt_seconds_per_spp,
-                              s.probe->rb_seconds_per_iteration, s.probe->pt_time_share, s.probe->probe_seconds));
+                              s.probe->rb_seconds_per_iteration, s.probe->pt_time_share,
+                              s.probe->pt_variance_kept, s.probe->probe_seconds));
 }
 
 // Both passes get the chosen c's weights before the first counted sample. On several ranks root's

@@ -52,6 +52,9 @@ void add_combination_stats(const RenderState& s, nlohmann::json& stats) {
                            {"pt_seconds_per_spp", probe.pt_seconds_per_spp},
                            {"rb_seconds_per_iteration", probe.rb_seconds_per_iteration},
                            {"pt_time_share", probe.pt_time_share},
+                           {"pt_variance_kept", std::isnan(probe.pt_variance_kept) ? nlohmann::json(nullptr)
+                                                                                   : nlohmann::json(probe.pt_variance_kept)},
+                           {"pt_variance_batches", probe.pt_variance_batches},
                            {"probe_pt_samples", probe.pt_samples},
                            {"probe_pt_size", std::to_string(probe.pt_image.width) + "x" +
                                                  std::to_string(probe.pt_image.height)},

@@ -1,6 +1,7 @@
 // The command line as a user meets it: help, exit codes, messages, output files.
 #include "e2e/cli_runner.h"
 #include "image/image.h"
+#include "passes/combined.h"
 #include "scene/gltf_test_util.h"
 
 #include <gtest/gtest.h>
@@ -10,6 +11,7 @@
 #include <cmath>
 #include <vector>
 #include <fstream>
+#include <map>
 
 namespace bp::test {
 namespace {
@@ -239,6 +241,35 @@ TEST(Cli, AutoRatioReportsTheChosenRatioAndDrawsThatRatiosImage) {
   nlohmann::json stats = nlohmann::json::parse(std::ifstream(dir + "/timed.json"));
   const nlohmann::json& a = stats["ratio_auto"];
   EXPECT_LT(a["probe_seconds"].get<double>() - a["probe_first_launch_seconds"].get<double>(), 0.2) << a.dump();
+}
+
+// --ratio auto measures κ, the share of PT's variance its weights keep (passes/combined.h): on a box
+// of glossy GGX lobes far more than on the Lambert box, where RB takes over most paths (at 128x128,
+// 3 s, seeds 1-3: 0.13-0.25 against 0.028-0.033; eight batches of the glossy box's highlights make a
+// noisy κ, hence a factor 2); PT's time share follows it (gloss_pt_time_share) and is never below the
+// base share.
+TEST(Cli, AutoRatioMeasuresHowMuchOfPtsVarianceItsWeightsKeep) {
+  std::string dir = fresh_dir("auto_ratio_kappa");
+  std::map<std::string, nlohmann::json> probes;
+  for (const char* scene : {"cornell-box", "cornell-ggx"}) {
+    const std::string stats = dir + "/" + scene + ".json";
+    CliResult r = run_cli("render " + kScenes + scene + ".gltf --width 128 --height 128 --time 3 --out " + dir + "/" +
+                          scene + " --stats " + stats);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find("PT's weights keep"), std::string::npos) << r.output;
+    probes[scene] = nlohmann::json::parse(std::ifstream(stats))["ratio_auto"];
+    const nlohmann::json& a = probes[scene];
+    ASSERT_TRUE(a["pt_variance_kept"].is_number()) << scene << ": " << a.dump();
+    EXPECT_GE(a["pt_variance_batches"].get<std::uint64_t>(), std::uint64_t(kAutoRatioProbeMinPtBatches)) << a.dump();
+    const double kappa = a["pt_variance_kept"].get<double>();
+    EXPECT_GT(kappa, 0.0) << a.dump();
+    EXPECT_LT(kappa, 1.0) << a.dump();
+    EXPECT_GE(a["pt_time_share"].get<double>(), gloss_pt_time_share(kappa)) << a.dump();
+    EXPECT_GE(a["pt_time_share"].get<double>(), kAutoRatioPtTimeShareEyeShared) << a.dump();
+  }
+  EXPECT_GT(probes["cornell-ggx"]["pt_variance_kept"].get<double>(),
+            2.0 * probes["cornell-box"]["pt_variance_kept"].get<double>())
+      << probes["cornell-ggx"].dump() << "\n" << probes["cornell-box"].dump();
 }
 
 // Where an RB iteration costs more than a PT sample of the whole image (16 pixels against the box's

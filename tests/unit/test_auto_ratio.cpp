@@ -89,6 +89,30 @@ TEST(AutoRatio, LeansToPtWhereTheEyeDirectLightIsPtsAlone) {
             auto_ratio_shape(2e-3, 1e-3, auto_ratio_pt_time_share(false)).ratio());
 }
 
+// Glossy scenes: PT's share minimises κ / f + β / (1 − f) (κ the share of PT's variance its
+// weights keep, β RB's part); it grows with κ, is 1/2 where κ = β, is not asked for where κ is not
+// measured, and the probed share is never below the base share.
+TEST(AutoRatio, GivesPtMoreTimeTheMoreOfItsVarianceItsWeightsKeep) {
+  const double beta = kAutoRatioRbVarianceOverPt;
+  EXPECT_NEAR(gloss_pt_time_share(beta), 0.5, 1e-12);
+  double previous = 0.0;
+  for (double kappa : {1e-4, 1e-3, 0.01, 0.05, 0.2, 0.5, 1.0}) {
+    const double f = gloss_pt_time_share(kappa);
+    EXPECT_GT(f, previous) << kappa;
+    previous = f;
+    // The model's least: no share 0.01 either side does better.
+    const auto rel_mse = [&](double g) { return kappa / g + beta / (1 - g); };
+    EXPECT_LE(rel_mse(f), rel_mse(std::min(f + 0.01, 0.999))) << kappa;
+    EXPECT_LE(rel_mse(f), rel_mse(std::max(f - 0.01, 0.001))) << kappa;
+    for (double base : {kAutoRatioPtTimeShareEyeShared, kAutoRatioPtTimeShareEyePt})
+      EXPECT_EQ(probed_pt_time_share(base, kappa), std::max(base, f));
+  }
+  EXPECT_EQ(gloss_pt_time_share(std::nan("")), 0.0);
+  EXPECT_EQ(gloss_pt_time_share(0.0), 0.0);
+  EXPECT_EQ(gloss_pt_time_share(3.0), gloss_pt_time_share(1.0));  // κ is at most 1
+  EXPECT_EQ(probed_pt_time_share(kAutoRatioPtTimeShareEyeShared, std::nan("")), kAutoRatioPtTimeShareEyeShared);
+}
+
 }  // namespace
 }  // namespace bp
 

@@ -326,5 +326,22 @@ TEST(ErrorEstimate, StatisticsSurviveACheckpoint) {
   }
 }
 
+// RB's batches are 64 iterations unless a render is expected to hold fewer than four of them: then
+// the longest whole blocks of 16 that give four (at least one block), so it still has an estimate.
+TEST(ErrorEstimate, AShortRenderGetsShorterRbBatches) {
+  EXPECT_EQ(rb_error_batch_iterations(std::nan("")), kErrorBatchRbIterations);
+  EXPECT_EQ(rb_error_batch_iterations(1e6), kErrorBatchRbIterations);
+  EXPECT_EQ(rb_error_batch_iterations(256.0), 64u);
+  EXPECT_EQ(rb_error_batch_iterations(255.0), 48u);
+  EXPECT_EQ(rb_error_batch_iterations(128.0), 32u);
+  EXPECT_EQ(rb_error_batch_iterations(80.0), 16u);  // 5 batches, not 1
+  EXPECT_EQ(rb_error_batch_iterations(3.0), 16u);
+  for (double n : {70.0, 100.0, 150.0, 200.0, 250.0}) {
+    const std::uint64_t batch = rb_error_batch_iterations(n);
+    EXPECT_EQ(batch % kErrorBatchRbBlock, 0u) << n;
+    EXPECT_GE(n / double(batch), double(kErrorBatchesWanted)) << n;
+  }
+}
+
 }  // namespace
 }  // namespace bp::test
