@@ -106,12 +106,6 @@ void time_until(double seconds, std::uint32_t max_batch, std::uint64_t first, St
     batch = std::uint32_t(std::clamp<double>(std::min({2.0 * batch, std::ceil(left), spread}), 1.0, double(max_batch)));
   }
 }
-
-ImageRGB average_of(const RoundSums& sums, int width, int height, double count) {
-  ImageRGB image(width, height);
-  for (std::size_t i = 0; i < image.rgb.size(); ++i) image.rgb[i] = float(sums.at(i) / count);
-  return image;
-}
 }  // namespace
 
 ProbeImageSize probe_image_size(int width, int height) {
@@ -200,10 +194,9 @@ RatioProbe probe_ratio(PathTracerPass& probe_pt, const Accumulator& probe_pt_acc
   probe.pt_image = ProbeImageSize{width, height};
   probe.pt_variance_batches = raw_variance.batches();
   if (raw_variance.batches() >= std::uint64_t(kAutoRatioProbeMinPtBatches) && !first_guess.pt_alone()) {
-    // Both relMSEs against the unweighted samples' mean image: the same pixels' scale.
-    const ImageRGB raw_mean = average_of(raw_sums, width, height, double(raw_variance.rounds()));
-    const double raw_rel_mse = raw_variance.estimated_rel_mse(raw_mean);
-    if (raw_rel_mse > 0.0) probe.pt_variance_kept = weighted_variance.estimated_rel_mse(raw_mean) / raw_rel_mse;
+    // Both relMSEs against the unweighted samples' mean image (the same rounds): the same pixels' scale.
+    const double raw_rel_mse = raw_variance.estimated_rel_mse(raw_sums);
+    if (raw_rel_mse > 0.0) probe.pt_variance_kept = weighted_variance.estimated_rel_mse(raw_sums) / raw_rel_mse;
   }
   probe.pt_time_share = probed_pt_time_share(budget.pt_time_share, probe.pt_variance_kept);
   probe.bounds = bounds;

@@ -305,7 +305,7 @@ static void decide_auto_settings(RenderState& s, RenderObserver& observer) {
       observer.note(printf_text("--eye-direct auto: %s (about %.0f PT samples per pixel%s)",
                                 s.eye_direct_shared ? "shared" : "pt", spp, at_pt_share ? " at pt's ratio" : ""));
     }
-    if (!s.eye_direct_shared && s.probe) {  // PT's alone: the ratio for that share (kAutoRatioPtTimeShareEyePt)
+    if (!s.eye_direct_shared && s.probe) {  // PT's alone: the ratio for that share (pt_alone_share)
       s.probe->pt_time_share = pt_alone_share(s);
       s.probe->chosen = auto_ratio_shape(s.probe->pt_seconds_per_spp, s.probe->rb_seconds_per_iteration,
                                          s.probe->pt_time_share, s.probe->bounds);
