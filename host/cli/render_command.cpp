@@ -82,10 +82,13 @@ void print_summary(const RenderOptions& o, const RenderResult& r) {
                                                                   : ": --target-error not reached")
                                       : "");
   // Where RB's bias is most of the error, more samples of the same mix will not remove it: say what will.
+  // With the eye vertex's direct light shared, first that: RB's patch-level eye light is most of its
+  // bias there (docs/results.md, "Who takes the eye vertex's direct light").
   if (r.rb_bias_rel_mse > kRbBiasHintShare * r.estimated_rel_mse)
-    std::fprintf(stderr, "bundlepath: the ray bundles' bias is %.0f %% of that error and does not shrink with time; more of the "
+    std::fprintf(stderr, "bundlepath: the ray bundles' bias is %.0f %% of that error and does not shrink with time; %smore of the "
                  "time for the path tracer (a larger --ratio, or --mode pt) lowers it\n",
-                 100.0 * r.rb_bias_rel_mse / r.estimated_rel_mse);
+                 100.0 * r.rb_bias_rel_mse / r.estimated_rel_mse,
+                 r.eye_direct_shared ? "the first hit's direct light for the path tracer alone (--eye-direct pt), or " : "");
   // Fewer degrees of freedom than a target waits for: the estimate is rough, and a region may be off
   // by several of its reported errors.
   char rough[96] = "";

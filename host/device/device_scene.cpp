@@ -153,6 +153,9 @@ std::vector<T> at_least_one(std::vector<T> v) {
 DeviceScene::DeviceScene(const DeviceContext& device, const Scene& scene, const PatchLayout& patches,
                          const FlatBvh& bvh, std::uint32_t selection) {
   LightList light_list = build_light_list(scene, bvh);
+  for (const Light& l : light_list.lights)
+    if (l.type == BP_LIGHT_POINT || l.type == BP_LIGHT_SPOT || l.type == BP_LIGHT_DIRECTIONAL)
+      delta_light_share += l.select_probability;
   light_selection = selection;
   ray_epsilon = ray_epsilon_for(scene.bounds);
   std::vector<LightTreeNode> tree_in;

@@ -51,6 +51,7 @@ struct DeviceScene {
   std::uint32_t light_selection = BP_LIGHT_SELECTION_TREE;  // BP_LIGHT_SELECTION_*, the same for PT and RB
   std::size_t triangle_count = 0, node_count = 0;
   std::uint32_t light_count = 0;
+  float delta_light_share = 0.0f;  // of the lights' selection power: point, spot and directional lights'
   float ray_epsilon = 0.0f;  // ray_epsilon_for(the scene's bounds)
   std::size_t bytes = 0;  // device memory held
   DeviceScene(const DeviceContext& device, const Scene& scene, const PatchLayout& patches, const FlatBvh& bvh,

@@ -126,6 +126,15 @@ ProbeImageSize probe_image_size(int width, int height);
 // PT alone at about 110 spp (c = 1/8) reached 0.00188 where sharing (c = 1/128) had 0.0043 (the sweep,
 // README): 128 was too high for it, and 96 still lies above the house's 84.
 constexpr double kEyeDirectSharedBelowSpp = 96.0;
+// Point, spot and sun lights cast sharp shadows, which RB's patch-level eye light blurs whatever the
+// budget: shared, the Blender room (a sun through a window, a point light) at 640x360 stayed 0.015
+// of relMSE off at 30 and 120 s where the path tracer's own light reached 0.0021 and 0.0003, and at
+// 15 s (13 spp, below the threshold above) 0.017 against 0.0039; a window with the sun behind it at
+// 15 s 0.14 against 0.002 (docs/results.md, "Who takes the eye vertex's direct light"; the render's
+// estimate missed most of it). Where such lights hold at least this share of the lights' power (by
+// the lights' selection power, host/scene/lights.cpp), --eye-direct auto gives the eye vertex's direct
+// light to PT at any budget. The area-lit boxes and houses have none.
+constexpr double kEyeDirectPtFromDeltaLightShare = 0.5;
 
 // PT samples per pixel a combined render at ratio c will take: its --spp, its --iterations times c,
 // or what fits in its --time at the probe's costs (0 where nothing bounds it: the default 64 spp).

@@ -415,6 +415,7 @@ RenderResult RenderJob::run(RenderObserver& observer) {
   r.width = s.scene.width;
   r.height = s.scene.height;
   r.combined = s.shape.has_value();
+  r.eye_direct_shared = r.combined && s.eye_direct_shared;
   r.mrays_per_second = s.outcome.seconds > 0 ? double(s.outcome.rays) / s.outcome.seconds * 1e-6 : 0.0;
   r.estimated_rel_mse = s.estimated_rel_mse;
   r.expected_worst_region_error = s.expected_worst_region_error;

@@ -262,7 +262,8 @@ static double pt_alone_share(const RenderState& s) {
 }
 
 // --ratio auto: the probe picks c (or a resumed render takes the checkpoint's); --eye-direct auto:
-// shared below kEyeDirectSharedBelowSpp PT samples per pixel, or what a resumed render was saved with.
+// pt where point, spot and sun lights hold kEyeDirectPtFromDeltaLightShare of the light, else shared
+// below kEyeDirectSharedBelowSpp PT samples per pixel, or what a resumed render was saved with.
 // Sets s.shape and s.eye_direct_shared; the passes are not changed yet.
 static void decide_auto_settings(RenderState& s, RenderObserver& observer) {
   const RenderSpec& o = s.spec;
@@ -284,6 +285,12 @@ static void decide_auto_settings(RenderState& s, RenderObserver& observer) {
       s.eye_direct_shared = *saved;
     } else if (s.shape->pt_alone()) {
       s.eye_direct_shared = false;  // RB renders nothing
+    } else if (const float sharp = s.devices.front()->scene.delta_light_share;
+               sharp >= kEyeDirectPtFromDeltaLightShare) {
+      s.eye_direct_shared = false;
+      observer.note(printf_text("--eye-direct auto: pt (point, spot and sun lights hold %.0f %% of the light: their "
+                                "sharp shadows are the path tracer's)",
+                                100.0 * sharp));
     } else {
       // A --time budget needs the probe's costs: probed here when --ratio did not probe already.
       double t_pt = s.probe ? s.probe->pt_seconds_per_spp : 0.0, t_rb = s.probe ? s.probe->rb_seconds_per_iteration : 0.0;

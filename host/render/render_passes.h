@@ -19,7 +19,8 @@ void open_devices(RenderState& s);
 void build_passes(RenderState& s);
 
 // --ratio auto: the probe picks c (or a resumed render takes the checkpoint's); --eye-direct auto:
-// shared below kEyeDirectSharedBelowSpp PT samples per pixel, or what a resumed render was saved with.
+// pt where point, spot and sun lights hold kEyeDirectPtFromDeltaLightShare of the light, else shared
+// below kEyeDirectSharedBelowSpp PT samples per pixel, or what a resumed render was saved with.
 // Both passes get the chosen c's weights. Reads s.resumed; notes the choices.
 void choose_auto_settings(RenderState& s, RenderObserver& observer);
 

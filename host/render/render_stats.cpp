@@ -264,6 +264,7 @@ nlohmann::json render_stats(const RenderState& s, const RenderResult& r) {
   stats["light_sampling"] = s.light_sampling;
   stats["kernel_options"] = s.kernel_options;
   stats["lights"] = device_scene.light_count;
+  stats["delta_light_share"] = device_scene.delta_light_share;
   if (s.light_sampling) stats["light_selection"] = o.light_selection;
   if (!o.resume_path.empty()) stats["resumed_from_rounds"] = s.first_round;
   if (!o.checkpoint_path.empty()) stats["checkpoint"] = o.checkpoint_path;
