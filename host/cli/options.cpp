@@ -144,7 +144,8 @@ bundlepath render --help-all
 constexpr const char* kRenderHelpTuning = R"(
 estimator tuning (the defaults are measured: docs/results.md):
   --eye-direct E      combined with light sampling: the direct light at the first hit, shared
-                      with RB, PT's alone (pt), or auto: shared below 96 PT samples per pixel [auto]
+                      with RB, PT's alone (pt), or auto: pt where point, spot and sun lights hold
+                      half the light or more, else shared below 96 PT samples per pixel [auto]
   --weights W         combined: product (exact per-vertex weights), paper (the paper's, one
                       density per patch: biased) or none (plain sum: counts twice)  [product]
   --beta B            product weights' per-vertex factor from PT's density P: clamped,

@@ -131,7 +131,7 @@ constexpr double kEyeDirectSharedBelowSpp = 96.0;
 // of relMSE off at 30 and 120 s where the path tracer's own light reached 0.0021 and 0.0003, and at
 // 15 s (13 spp, below the threshold above) 0.017 against 0.0039; a window with the sun behind it at
 // 15 s 0.14 against 0.002 (docs/results.md, "Who takes the eye vertex's direct light"; the render's
-// estimate missed most of it). Where such lights hold at least this share of the lights' power (by
+// own estimate held 0.12-0.7 of it). Where such lights hold at least this share of the lights' power (by
 // the lights' selection power, host/scene/lights.cpp), --eye-direct auto gives the eye vertex's direct
 // light to PT at any budget. The area-lit boxes and houses have none.
 constexpr double kEyeDirectPtFromDeltaLightShare = 0.5;
