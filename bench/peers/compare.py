@@ -1,7 +1,8 @@
 """Image against reference, the figures of the peer table (issue 29). Runs in the peers' venv
 (numpy, OpenEXR):
 
-  python bench/peers/compare.py IMAGE.exr REFERENCE.exr [--grid 8]       -> one JSON line
+  python bench/peers/compare.py IMAGE.exr REFERENCE.exr [--grid 8] [--stats STATS.json]
+                                 [--reference-stats REFERENCE.json]      -> one JSON line
 
 * rel_mse: mean over pixels and RGB channels of (I - R)^2 / (R^2 + 0.01), bundlepath's definition
   (`bundlepath compare`, host/image/image.h);
@@ -11,7 +12,12 @@
   80 x 45 pixels at 640x360), over the blocks whose reference mean is at least 1 % of the image's
   (black regions have no relative error);
 * mean, reference_mean, mean_rel: the image's mean luminance, the reference's, and their relative
-  difference.
+  difference;
+* with --stats (a bundlepath render's `--stats` file, its `regional_error` on the same grid):
+  worst_block_z, the worst block's error over the standard error the render reported for it
+  (combined with the reference's own where --reference-stats has it on the same grid), and max_abs_z,
+  the largest |z| over the blocks: whether an error is one the render says it has (|z| of 3 and more
+  over 64 blocks is rare for noise alone).
 """
 import argparse
 import json
@@ -48,7 +54,16 @@ def block_means(lum, grid):
     return np.array([lum[rows == by][:, cols == bx].mean() for by in range(grid) for bx in range(grid)])
 
 
-def compare(image, reference, grid=8):
+def stderr_on_grid(stats_path, grid):
+    """The relative standard error per block that a bundlepath render reported, or None."""
+    regional = json.load(open(stats_path)).get("regional_error")
+    if regional and list(regional.get("regions", [])) == [grid, grid]:
+        return np.array([np.nan if e is None else e for e in regional["relative_stderr"]], dtype=np.float64)
+    print("compare.py: %s has no regional error on a %d x %d grid" % (stats_path, grid, grid), file=sys.stderr)
+    return None
+
+
+def compare(image, reference, grid=8, reported_stderr=None, reference_stderr=None):
     if image.shape != reference.shape:
         raise SystemExit("sizes differ: %s vs %s" % (image.shape, reference.shape))
     if not np.all(np.isfinite(image)):
@@ -58,9 +73,17 @@ def compare(image, reference, grid=8):
     bi, br = block_means(li, grid), block_means(lr, grid)
     keep = br >= 0.01 * lr.mean()
     rel = np.abs(bi[keep] - br[keep]) / br[keep]
-    return {"rel_mse": rel_mse, "worst_block": float(rel.max()) if rel.size else 0.0, "grid": grid,
-            "mean": float(li.mean()), "reference_mean": float(lr.mean()),
-            "mean_rel": float(li.mean() / lr.mean() - 1.0)}
+    result = {"rel_mse": rel_mse, "worst_block": float(rel.max()) if rel.size else 0.0, "grid": grid,
+              "mean": float(li.mean()), "reference_mean": float(lr.mean()),
+              "mean_rel": float(li.mean() / lr.mean() - 1.0)}
+    if reported_stderr is not None and rel.size:
+        # z = (Y - R) / R over sqrt(σ² + σ_R²): the render's own relative standard error and the
+        # reference's, as bench/regional_error.sh
+        var = reported_stderr ** 2 + (reference_stderr ** 2 if reference_stderr is not None else 0.0)
+        z = (bi[keep] - br[keep]) / br[keep] / np.sqrt(var[keep])
+        result["worst_block_z"] = float(z[np.argmax(rel)])
+        result["max_abs_z"] = float(np.nanmax(np.abs(z)))
+    return result
 
 
 def main():
@@ -68,8 +91,12 @@ def main():
     p.add_argument("image")
     p.add_argument("reference")
     p.add_argument("--grid", type=int, default=8)
+    p.add_argument("--stats", help="the render's --stats JSON: z of each block against its own error")
+    p.add_argument("--reference-stats", help="the reference's --stats JSON: its own error joins the z")
     a = p.parse_args()
-    print(json.dumps(compare(read_rgb(a.image), read_rgb(a.reference), a.grid)))
+    stderr = stderr_on_grid(a.stats, a.grid) if a.stats else None
+    ref_stderr = stderr_on_grid(a.reference_stats, a.grid) if a.reference_stats else None
+    print(json.dumps(compare(read_rgb(a.image), read_rgb(a.reference), a.grid, stderr, ref_stderr)))
 
 
 if __name__ == "__main__":

@@ -170,7 +170,9 @@ PY
       prefix=$out/$r-$size-${budget}s
       echo "run.sh: $r at $size, $budget s ..." >&2
       render_one "$r" "$size" "$budget" "$prefix"
-      cmp=$("$py" "$here/compare.py" "$prefix.exr" "$ref")
+      stats=()  # bundlepath's own error per block, and the reference's, for the worst block's z
+      [ -f "$prefix.bp.json" ] && stats=(--stats "$prefix.bp.json" --reference-stats "${ref%.exr}.json")
+      cmp=$("$py" "$here/compare.py" "$prefix.exr" "$ref" "${stats[@]}")
       python3 - "$rows" "$size" "$budget" "$r" "$prefix.json" "$cmp" <<'PY'
 import json, sys
 run = json.load(open(sys.argv[5]))

@@ -53,7 +53,8 @@ def main():
     print("rendering time asked for; render s: what each renderer reports it spent sampling (Cycles overruns")
     print("its limit, by a third and, on a loaded machine, more); relMSE × s/budget: the relMSE scaled to the")
     print("budget as for an unbiased estimator (relMSE ∝ 1/time), to undo overruns; set-up s: the rest of the")
-    print("wall time (loading, kernels, BVH, caches).")
+    print("wall time (loading, kernels, BVH, caches). z: in bundlepath's rows, the worst block's error in")
+    print("standard errors of what the render itself reported for that block (|z| above 3 is rare for noise).")
     if a.load:
         print("Load average (1 min) when the run started and ended: %s: %s." % (a.load, "timings on a busy machine are indicative only"))
     for size in sorted(refs, key=lambda s: [int(x) for x in s.split("x")]):
@@ -82,8 +83,9 @@ def main():
                 mark = " **(off by more than %.1f %%)**" % (100 * a.max_mean_rel)
                 failed += 1
             scaled = c["rel_mse"] * run["render_seconds"] / r["budget"]
-            print("| %g s | %s | %.3g | %.3g | %.1f %% | %+.2f %%%s | %s | %.1f | %.1f |"
-                  % (r["budget"], NAMES.get(r["renderer"], r["renderer"]), c["rel_mse"], scaled, 100 * c["worst_block"],
+            z = " (z %+.1f)" % c["worst_block_z"] if c.get("worst_block_z") is not None else ""
+            print("| %g s | %s | %.3g | %.3g | %.1f %%%s | %+.2f %%%s | %s | %.1f | %.1f |"
+                  % (r["budget"], NAMES.get(r["renderer"], r["renderer"]), c["rel_mse"], scaled, 100 * c["worst_block"], z,
                      100 * c["mean_rel"], mark, samples, run["render_seconds"], run["setup_seconds"]))
         devices = sorted({r["run"].get("device", "") for r in renders if r["size"] == size and r["run"].get("device")})
         if devices:
