@@ -54,7 +54,8 @@ def main():
     print("its limit, by a third and, on a loaded machine, more); relMSE × s/budget: the relMSE scaled to the")
     print("budget as for an unbiased estimator (relMSE ∝ 1/time), to undo overruns; set-up s: the rest of the")
     print("wall time (loading, kernels, BVH, caches). z: in bundlepath's rows, the worst block's error in")
-    print("standard errors of what the render itself reported for that block (|z| above 3 is rare for noise).")
+    print("standard errors of what the render reported for that block, with the reference's own (|z| above 3")
+    print("is rare for noise).")
     if a.load:
         print("Load average (1 min) when the run started and ended: %s: %s." % (a.load, "timings on a busy machine are indicative only"))
     for size in sorted(refs, key=lambda s: [int(x) for x in s.split("x")]):
