@@ -390,7 +390,7 @@ TEST(Cli, SharedEyeLightsBiasIsSeenAndThePathTracersOwnLightLowersIt) {
   EXPECT_GT(bias("shared"), 0.0) << stats["shared"]["error_estimate"].dump();
   EXPECT_LT(bias("pt"), 0.5 * bias("shared"));
   EXPECT_LT(measured("pt"), 0.75 * measured("shared")) << measured("pt") << " against " << measured("shared");
-  // Where the bias is most of the estimate (kRbBiasHintShare, cli/render_command.cpp) the end line says
+  // Where the bias is most of the estimate (kRbBiasHintShare, host/cli/render_command.cpp) the end line says
   // what removes it, --eye-direct pt first.
   const bool hint = bias("shared") > 0.5 * stats["shared"]["estimated_rel_mse"].get<double>();
   EXPECT_EQ(output["shared"].find("(--eye-direct pt)") != std::string::npos, hint) << output["shared"];
