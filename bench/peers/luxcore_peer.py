@@ -4,10 +4,18 @@ bench/peers/convert.py, for the peer harness (issue 29). Runs in the peers' venv
   python bench/peers/luxcore_peer.py SCENE OUT_PREFIX --width W --height H [--time S | --spp N]
                                      [--threads T] [--seed K] [--photongi] [--light-strategy S]
                                      [--mesh-dls enabled|disabled|auto] [--mesh-lights dls-only|mis]
+                                     [--engine pathcpu|pathocl]
 
-Writes OUT_PREFIX.exr (linear RGB float) and OUT_PREFIX.json: passes (samples per pixel) reached,
-the rendering time (from the first pass to the stop, the budget of --time), the set-up time (scene
-parse, BVH, the DLS and PhotonGI caches: the wall time before the first pass), wall time.
+Writes OUT_PREFIX.exr (linear RGB float), OUT_PREFIX.log (LuxCore's log) and OUT_PREFIX.json: passes
+(samples per pixel) reached, the rendering time (from the first pass to the stop, the budget of
+--time), the set-up time (scene parse, BVH, the DLS and PhotonGI caches: the wall time before the
+first pass, less the kernels' compilation), PATHOCL's kernel compilation time (from LuxCore's log;
+0 for PATHCPU, and small once LuxCore's kernel cache holds the scene's kernels), wall time.
+
+--engine pathocl: LuxCore's OpenCL path tracer on every OpenCL device it finds (no native CPU
+threads beside them), otherwise as PATHCPU below. On PoCL's CPU device (2-core AMD EPYC, PoCL 3.1)
+its kernels' compilation had not finished after 15 minutes of a core: use it where a GPU driver
+is installed.
 
 PATHCPU, Sobol sampler, 1024 bounces of every kind (Russian roulette from depth 3, LuxCore's
 default), no clamping, a 1-pixel box filter (LuxCore's filter width is a radius: 0.5), the light
@@ -68,12 +76,14 @@ Materials (LuxCore 2.11, src/slg/materials/ and materialdefs_funcs_generic.cl):
   Schlick's rise to white at grazing.
 
 LuxCore's CPU engines never need OpenCL, and pyluxcore's bundled allocator crashes when LuxCore opens
-PoCL: OCL_ICD_VENDORS is pointed at an empty folder before pyluxcore loads.
+PoCL: for them OCL_ICD_VENDORS is pointed at an empty folder before pyluxcore loads; PATHOCL runs
+with the allocator preloaded (_opencl_engine_environment).
 """
 import argparse
 import json
 import math
 import os
+import re
 import struct
 import sys
 import tempfile
@@ -82,8 +92,32 @@ import time
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import convert  # noqa: E402
 
-_empty_icd = tempfile.mkdtemp(prefix="no-ocl-vendors-")
-os.environ["OCL_ICD_VENDORS"] = _empty_icd
+
+def _opencl_engine_environment():
+    """PATHOCL opens the OpenCL vendors, where pyluxcore's bundled TBB allocator, loaded as a
+    dependency, frees what the ICD loader and PoCL allocated ("double free or corruption"): with the
+    allocator preloaded, every allocation is its own. So a PATHOCL run re-executes itself once with
+    LD_PRELOAD naming it (and PoCL's threads limited to --threads); the CPU engines hide the vendors."""
+    argv = sys.argv[1:]
+    if "--engine" not in argv or argv[argv.index("--engine") + 1:][:1] != ["pathocl"]:
+        os.environ["OCL_ICD_VENDORS"] = tempfile.mkdtemp(prefix="no-ocl-vendors-")
+        return
+    if "tbbmalloc_proxy" in os.environ.get("LD_PRELOAD", ""):
+        return
+    import glob
+    import importlib.util
+    libs = os.path.join(os.path.dirname(os.path.dirname(importlib.util.find_spec("pyluxcore").origin)),
+                        "pyluxcore.libs")
+    proxy = sorted(glob.glob(os.path.join(libs, "libtbbmalloc_proxy*.so*")))
+    if not proxy:
+        sys.exit("luxcore_peer: no libtbbmalloc_proxy in %s: PATHOCL would crash opening OpenCL" % libs)
+    env = dict(os.environ, LD_PRELOAD=":".join(filter(None, [proxy[0], os.environ.get("LD_PRELOAD")])))
+    if "--threads" in argv:
+        env.setdefault("POCL_MAX_PTHREAD_COUNT", argv[argv.index("--threads") + 1])
+    os.execve(sys.executable, [sys.executable] + sys.argv, env)
+
+
+_opencl_engine_environment()
 import numpy as np  # noqa: E402
 import OpenEXR  # noqa: E402  (before pyluxcore: its malloc proxy breaks a later import)
 import pyluxcore  # noqa: E402
@@ -100,6 +134,7 @@ def parse_args():
     p.add_argument("--threads", type=int, default=1)
     p.add_argument("--seed", type=int, default=1)
     p.add_argument("--photongi", action="store_true")
+    p.add_argument("--engine", default="pathcpu", choices=["pathcpu", "pathocl"])
     p.add_argument("--light-strategy", default="DLS_CACHE")
     p.add_argument("--mesh-dls", default="enabled", choices=["enabled", "disabled", "auto"])
     p.add_argument("--mesh-lights", default="dls-only", choices=["dls-only", "mis"])
@@ -306,7 +341,7 @@ def scene_props(scene, a, tmp):
 
 
 def config_props(a):
-    lines = ["renderengine.type = PATHCPU", "sampler.type = SOBOL", "renderengine.seed = %d" % a.seed,
+    lines = ["renderengine.type = %s" % a.engine.upper(), "sampler.type = SOBOL", "renderengine.seed = %d" % a.seed,
              "native.threads.count = %d" % a.threads,
              "path.pathdepth.total = 1024", "path.pathdepth.diffuse = 1024", "path.pathdepth.glossy = 1024",
              "path.pathdepth.specular = 1024", "path.clamping.variance.maxvalue = 0",
@@ -316,6 +351,8 @@ def config_props(a):
              "film.imagepipelines.0.0.type = NOP",
              "lightstrategy.type = %s" % a.light_strategy,
              "batch.haltthreshold = -1", "batch.haltnoisethreshold = -1"]
+    if a.engine == "pathocl":  # every OpenCL device, no native CPU threads beside them
+        lines += ["opencl.cpu.use = 1", "opencl.gpu.use = 1", "opencl.native.threads.count = 0"]
     if a.spp > 0:
         lines.append("batch.haltspp = %d" % a.spp)  # --time: main() stops the session itself
     if a.photongi:
@@ -331,8 +368,12 @@ def main():
     for w in scene["warnings"]:
         print("luxcore_peer: warning:", w, file=sys.stderr)
     tmp = tempfile.mkdtemp(prefix="luxcore-peer-")
-    logs = []
-    pyluxcore.Init(lambda msg: logs.append(msg))
+    log = open(a.out + ".log", "w")  # written as LuxCore speaks: a run that hangs or dies keeps it
+
+    def log_line(msg):
+        log.write(msg + "\n")
+        log.flush()
+    pyluxcore.Init(log_line)
     props = pyluxcore.Properties()
     props.SetFromString(scene_props(scene, a, tmp))
     lux_scene = pyluxcore.Scene()
@@ -375,14 +416,17 @@ def main():
     with OpenEXR.File({"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage},
                       {"RGB": np.ascontiguousarray(img)}) as f:
         f.write(a.out + ".exr")
-    result = {"renderer": "LuxCore " + pyluxcore.Version(), "photongi": a.photongi,
+    # PATHOCL compiles its kernels before the first pass (LuxCore logs each program's time): apart
+    log.flush()
+    compile_s = sum(float(ms) for ms in re.findall(r"Kernels compilation time: ([0-9.]+) ?ms",
+                                                    open(a.out + ".log").read())) / 1000.0
+    result = {"renderer": "LuxCore " + pyluxcore.Version(), "engine": a.engine.upper(), "photongi": a.photongi,
               "light_strategy": a.light_strategy, "mesh_dls": a.mesh_dls, "spp": passes,
-              "render_seconds": render, "setup_seconds": t1 - t0, "wall_seconds": t2 - t0,
+              "render_seconds": render, "setup_seconds": t1 - t0 - compile_s, "kernel_compile_seconds": compile_s,
+              "wall_seconds": t2 - t0,
               "threads": a.threads, "seed": a.seed}
     with open(a.out + ".json", "w") as f:
         json.dump(result, f, indent=1)
-    with open(a.out + ".log", "w") as f:
-        f.write("\n".join(logs) + "\n")
     print("luxcore_peer:", json.dumps(result), flush=True)
     sys.stderr.flush()
     # pyluxcore's log handler thread aborts the interpreter's finalisation ("GIL is released"): leave

@@ -15,7 +15,8 @@
 #                 (bench/lib.sh bench_scene)                                        [cornell-box]
 #   --renderers   comma-separated, in order, from: bp (defaults, combined), bp-pt, bp-rb, cycles,
 #                 cycles-guiding, luxcore, luxcore-photongi                         [all seven]
-#                 (and luxcore-mis: mesh lights under LuxCore's MIS, for the record)
+#                 (and luxcore-mis: mesh lights under LuxCore's MIS, for the record; luxcore-ocl:
+#                 PATHOCL on every OpenCL device, its kernel compilation apart from set-up)
 #   --ref-spp     the references' spp at 128x128 (scaled to SIZE by bench_reference_spp) [the
 #                 scene's in bench/lib.sh BENCH_STUDY_SCENES, else 8192]
 #   --threads     CPU threads of every renderer: Cycles' render.threads, LuxCore's
@@ -73,7 +74,7 @@ py=$venv/bin/python
 nice_n=${PEERS_NICE:-19}
 for r in ${renderers//,/ }; do
   case $r in
-    bp|bp-pt|bp-rb|cycles|cycles-guiding|luxcore|luxcore-photongi|luxcore-mis) ;;
+    bp|bp-pt|bp-rb|cycles|cycles-guiding|luxcore|luxcore-photongi|luxcore-mis|luxcore-ocl) ;;
     *) echo "run.sh: unknown renderer $r" >&2; exit 2 ;;
   esac
 done
@@ -136,10 +137,11 @@ PY
         --time "$budget" --threads "$threads" --seed "$seed" "${g[@]}" > "$prefix.log" 2>&1 || rc=$?
       [ $rc = 0 ] || { tail -5 "$prefix.log" >&2; return $rc; }
       ;;
-    luxcore|luxcore-photongi|luxcore-mis)
+    luxcore|luxcore-photongi|luxcore-mis|luxcore-ocl)
       local -a g=()
       [ "$r" = luxcore-photongi ] && g=(--photongi)
       [ "$r" = luxcore-mis ] && g=(--mesh-lights mis)
+      [ "$r" = luxcore-ocl ] && g=(--engine pathocl)
       nice -n "$nice_n" "$py" "$here/luxcore_peer.py" "$scene" "$prefix" --width "$w" --height "$h" \
         --time "$budget" --threads "$threads" --seed "$seed" "${g[@]}" > "$prefix.log" 2>&1 || rc=$?
       [ $rc = 0 ] || { tail -5 "$prefix.log" >&2; return $rc; }

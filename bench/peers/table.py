@@ -21,6 +21,7 @@ NAMES = {
     "luxcore": "LuxCore 2.11 PATHCPU, DLS cache",
     "luxcore-photongi": "LuxCore 2.11 PATHCPU, DLS cache + PhotonGI indirect",
     "luxcore-mis": "LuxCore 2.11 PATHCPU, DLS cache, mesh lights under MIS",
+    "luxcore-ocl": "LuxCore 2.11 PATHOCL, DLS cache",
 }
 
 
@@ -53,9 +54,9 @@ def main():
     print("rendering time asked for; render s: what each renderer reports it spent sampling (Cycles overruns")
     print("its limit, by a third and, on a loaded machine, more); relMSE × s/budget: the relMSE scaled to the")
     print("budget as for an unbiased estimator (relMSE ∝ 1/time), to undo overruns; set-up s: the rest of the")
-    print("wall time (loading, kernels, BVH, caches). z: in bundlepath's rows, the worst block's error in")
-    print("standard errors of what the render reported for that block, with the reference's own (|z| above 3")
-    print("is rare for noise).")
+    print("wall time (loading, kernels, BVH, caches; LuxCore PATHOCL's kernel compilation apart). z: in")
+    print("bundlepath's rows, the worst block's error in standard errors of what the render reported for that")
+    print("block, with the reference's own (|z| above 3 is rare for noise).")
     if a.load:
         print("Load average (1 min) when the run started and ended: %s: %s." % (a.load, "timings on a busy machine are indicative only"))
     for size in sorted(refs, key=lambda s: [int(x) for x in s.split("x")]):
@@ -85,9 +86,10 @@ def main():
                 failed += 1
             scaled = c["rel_mse"] * run["render_seconds"] / r["budget"]
             z = " (z %+.1f)" % c["worst_block_z"] if c.get("worst_block_z") is not None else ""
-            print("| %g s | %s | %.3g | %.3g | %.1f %%%s | %+.2f %%%s | %s | %.1f | %.1f |"
+            kernels = " + %.1f kernels" % run["kernel_compile_seconds"] if run.get("kernel_compile_seconds") else ""
+            print("| %g s | %s | %.3g | %.3g | %.1f %%%s | %+.2f %%%s | %s | %.1f | %.1f%s |"
                   % (r["budget"], NAMES.get(r["renderer"], r["renderer"]), c["rel_mse"], scaled, 100 * c["worst_block"], z,
-                     100 * c["mean_rel"], mark, samples, run["render_seconds"], run["setup_seconds"]))
+                     100 * c["mean_rel"], mark, samples, run["render_seconds"], run["setup_seconds"], kernels))
         devices = sorted({r["run"].get("device", "") for r in renders if r["size"] == size and r["run"].get("device")})
         if devices:
             print()
