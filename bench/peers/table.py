@@ -10,6 +10,7 @@ from the reference's (the table is written either way, the failing rows marked).
 import argparse
 import datetime
 import json
+import math
 import sys
 
 NAMES = {
@@ -56,7 +57,8 @@ def main():
     print("budget as for an unbiased estimator (relMSE ∝ 1/time), to undo overruns; set-up s: the rest of the")
     print("wall time (loading, kernels, BVH, caches; LuxCore PATHOCL's kernel compilation apart). z: in")
     print("bundlepath's rows, the worst block's error in standard errors of what the render reported for that")
-    print("block, with the reference's own (|z| above 3 is rare for noise).")
+    print("block, with the reference's own (|z| above 3 is rare for noise; none where the render held too few")
+    print("batches to estimate its error).")
     if a.load:
         print("Load average (1 min) when the run started and ended: %s: %s." % (a.load, "timings on a busy machine are indicative only"))
     for size in sorted(refs, key=lambda s: [int(x) for x in s.split("x")]):
@@ -85,7 +87,8 @@ def main():
                 mark = " **(off by more than %.1f %%)**" % (100 * a.max_mean_rel)
                 failed += 1
             scaled = c["rel_mse"] * run["render_seconds"] / r["budget"]
-            z = " (z %+.1f)" % c["worst_block_z"] if c.get("worst_block_z") is not None else ""
+            z = c.get("worst_block_z")
+            z = "" if z is None else " (z %+.1f)" % z if math.isfinite(z) else " (no error reported)"
             kernels = " + %.1f kernels" % run["kernel_compile_seconds"] if run.get("kernel_compile_seconds") else ""
             print("| %g s | %s | %.3g | %.3g | %.1f %%%s | %+.2f %%%s | %s | %.1f | %.1f%s |"
                   % (r["budget"], NAMES.get(r["renderer"], r["renderer"]), c["rel_mse"], scaled, 100 * c["worst_block"], z,

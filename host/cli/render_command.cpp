@@ -62,7 +62,8 @@ void print_summary(const RenderOptions& o, const RenderResult& r) {
   for (const RenderResult::ErrorLayer& l : r.error_layers) {
     const std::string name = l.name == "pt" ? "PT" : "RB";
     batches += (batches.empty() ? "" : " + ") + (r.error_layers.size() > 1 ? name + " " : std::string()) +
-               std::to_string(l.batches) + " batches of at least " + std::to_string(l.batch_rounds) +
+               std::to_string(l.batches) + (l.batches == 1 ? " batch" : " batches") + " of at least " +
+               std::to_string(l.batch_rounds) +
                (l.batch_rounds == 1 ? " round" : " rounds");
   }
   // RB's bias as far as PT sees it (ImageErrorEstimate::rb_bias_rel_mse): a combined render's.
@@ -81,6 +82,9 @@ void print_summary(const RenderOptions& o, const RenderResult& r) {
                  o.target_error > 0.0 ? (r.outcome.target_reached ? ": --target-error reached"
                                                                   : ": --target-error not reached")
                                       : "");
+  else if (!r.error_layers.empty())  // the noise is the batches' spread: one has none; silence would read as none
+    std::fprintf(stderr, "bundlepath: no error estimate: it needs two batches or more and this render held %s; render longer "
+                 "(--time, --spp) for one\n", batches.c_str());
   // Where RB's bias is most of the error, more samples of the same mix will not remove it: say what will.
   // With the eye vertex's direct light shared, first that: RB's patch-level eye light is most of its
   // bias there (docs/results.md, "Who takes the eye vertex's direct light").

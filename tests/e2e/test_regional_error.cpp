@@ -142,5 +142,21 @@ TEST(RegionalErrorCli, AnEstimateFromFewDegreesOfFreedomIsSaidToBeRough) {
   EXPECT_EQ(enough.output.find("; rough"), std::string::npos) << enough.output;
 }
 
+// A render of one batch cannot measure its noise (the batches' spread): it says so instead of saying
+// nothing, for the path tracer alone and for the combination (one round: one batch of each layer).
+TEST(RegionalErrorCli, ARenderOfOneBatchSaysItHasNoErrorEstimate) {
+  const std::string dir = fresh_dir("regional_error_one_batch");
+  for (const std::string flags : {"--mode pt --spp 1", "--ratio 1/16 --spp 1"}) {
+    CliResult one = run_cli("render " + kBox + "--width 16 --height 12 " + flags + " --out " + dir + "/one");
+    ASSERT_EQ(one.exit_code, 0) << one.output;
+    EXPECT_NE(one.output.find("no error estimate: it needs two batches or more"), std::string::npos) << one.output;
+    EXPECT_EQ(one.output.find("estimated relMSE"), std::string::npos) << one.output;
+  }
+  CliResult two = run_cli("render " + kBox + "--width 16 --height 12 --mode pt --spp 2 --out " + dir + "/two");
+  ASSERT_EQ(two.exit_code, 0) << two.output;
+  EXPECT_NE(two.output.find("estimated relMSE"), std::string::npos) << two.output;
+  EXPECT_EQ(two.output.find("no error estimate"), std::string::npos) << two.output;
+}
+
 }  // namespace
 }  // namespace bp::test
