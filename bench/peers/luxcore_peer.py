@@ -6,11 +6,11 @@ bench/peers/convert.py, for the peer harness (issue 29). Runs in the peers' venv
                                      [--mesh-dls enabled|disabled|auto] [--mesh-lights dls-only|mis]
                                      [--engine pathcpu|pathocl]
 
-Writes OUT_PREFIX.exr (linear RGB float), OUT_PREFIX.log (LuxCore's log) and OUT_PREFIX.json: passes
-(samples per pixel) reached, the rendering time (from the first pass to the stop, the budget of
---time), the set-up time (scene parse, BVH, the DLS and PhotonGI caches: the wall time before the
-first pass, less the kernels' compilation), PATHOCL's kernel compilation time (from LuxCore's log;
-0 for PATHCPU, and small once LuxCore's kernel cache holds the scene's kernels), wall time.
+Writes OUT_PREFIX.exr (linear RGB float), OUT_PREFIX.luxcore.log (LuxCore's log, as it speaks: a
+run that hangs or dies keeps it) and OUT_PREFIX.json: passes (samples per pixel) reached, the
+rendering time (from the first pass to the stop, the budget of --time), the set-up time (scene
+parse, BVH, the DLS and PhotonGI caches: the wall time before the first pass, less the kernels'
+compilation), PATHOCL's kernel compilation time (from LuxCore's log; 0 for PATHCPU), wall time.
 
 --engine pathocl: LuxCore's OpenCL path tracer on every OpenCL device it finds (no native CPU
 threads beside them), otherwise as PATHCPU below. On PoCL's CPU device (2-core AMD EPYC, PoCL 3.1)
@@ -368,7 +368,7 @@ def main():
     for w in scene["warnings"]:
         print("luxcore_peer: warning:", w, file=sys.stderr)
     tmp = tempfile.mkdtemp(prefix="luxcore-peer-")
-    log = open(a.out + ".log", "w")  # written as LuxCore speaks: a run that hangs or dies keeps it
+    log = open(a.out + ".luxcore.log", "w")
 
     def log_line(msg):
         log.write(msg + "\n")
@@ -419,7 +419,7 @@ def main():
     # PATHOCL compiles its kernels before the first pass (LuxCore logs each program's time): apart
     log.flush()
     compile_s = sum(float(ms) for ms in re.findall(r"Kernels compilation time: ([0-9.]+) ?ms",
-                                                    open(a.out + ".log").read())) / 1000.0
+                                                    open(a.out + ".luxcore.log").read())) / 1000.0
     result = {"renderer": "LuxCore " + pyluxcore.Version(), "engine": a.engine.upper(), "photongi": a.photongi,
               "light_strategy": a.light_strategy, "mesh_dls": a.mesh_dls, "spp": passes,
               "render_seconds": render, "setup_seconds": t1 - t0 - compile_s, "kernel_compile_seconds": compile_s,
