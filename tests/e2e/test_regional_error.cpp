@@ -143,7 +143,7 @@ TEST(RegionalErrorCli, AnEstimateFromFewDegreesOfFreedomIsSaidToBeRough) {
 }
 
 // A render of one batch cannot measure its noise (the batches' spread): it says so instead of saying
-// nothing, for the path tracer alone and for the combination (one round: one batch of each layer).
+// nothing, for the path tracer alone and for the combination (one round: one PT batch, no RB batch closed).
 TEST(RegionalErrorCli, ARenderOfOneBatchSaysItHasNoErrorEstimate) {
   const std::string dir = fresh_dir("regional_error_one_batch");
   for (const std::string flags : {"--mode pt --spp 1", "--ratio 1/16 --spp 1"}) {
