@@ -417,7 +417,6 @@ def main():
                       {"RGB": np.ascontiguousarray(img)}) as f:
         f.write(a.out + ".exr")
     # PATHOCL compiles its kernels before the first pass (LuxCore logs each program's time): apart
-    log.flush()
     compile_s = sum(float(ms) for ms in re.findall(r"Kernels compilation time: ([0-9.]+) ?ms",
                                                     open(a.out + ".luxcore.log").read())) / 1000.0
     result = {"renderer": "LuxCore " + pyluxcore.Version(), "engine": a.engine.upper(), "photongi": a.photongi,
