@@ -2,7 +2,8 @@
 (numpy, OpenEXR):
 
   python bench/peers/compare.py IMAGE.exr REFERENCE.exr [--grid 8] [--stats STATS.json]
-                                 [--reference-stats REFERENCE.json]      -> one JSON line
+                                 [--reference-stats REFERENCE.json] [--second IMAGE2.exr]
+                                                                         -> one JSON line
 
 * rel_mse: mean over pixels and RGB channels of (I - R)^2 / (R^2 + 0.01), bundlepath's definition
   (`bundlepath compare`, host/image/image.h);
@@ -18,6 +19,11 @@
   (combined with the reference's own where --reference-stats has it on the same grid), and max_abs_z,
   the largest |z| over the blocks: whether an error is one the render says it has (|z| of 3 and more
   over 64 blocks is rare for noise alone).
+* with --second (the same renderer's render at another seed): seeds_rel_mse, the mean over pixels
+  and channels of (I - I2)^2 / (R^2 + 0.01), the reference in the denominator so that the
+  denominator holds no noise: its expectation is twice the image's own variance in relMSE's units,
+  so noise_rel_mse = seeds_rel_mse / 2 is the image's noise alone, and rel_mse less it (and less the
+  reference's own) is what the image holds beyond noise: a model difference or a bias.
 """
 import argparse
 import json
@@ -86,6 +92,13 @@ def compare(image, reference, grid=8, reported_stderr=None, reference_stderr=Non
     return result
 
 
+def seed_pair(image, second, reference):
+    if second.shape != reference.shape:
+        raise SystemExit("sizes differ: %s vs %s" % (second.shape, reference.shape))
+    seeds_rel_mse = float(np.mean((image - second) ** 2 / (reference ** 2 + 0.01)))
+    return {"seeds_rel_mse": seeds_rel_mse, "noise_rel_mse": 0.5 * seeds_rel_mse}
+
+
 def main():
     p = argparse.ArgumentParser()
     p.add_argument("image")
@@ -93,10 +106,15 @@ def main():
     p.add_argument("--grid", type=int, default=8)
     p.add_argument("--stats", help="the render's --stats JSON: z of each block against its own error")
     p.add_argument("--reference-stats", help="the reference's --stats JSON: its own error joins the z")
+    p.add_argument("--second", help="the same renderer at another seed: the image's own noise")
     a = p.parse_args()
     stderr = stderr_on_grid(a.stats, a.grid) if a.stats else None
     ref_stderr = stderr_on_grid(a.reference_stats, a.grid) if a.reference_stats else None
-    print(json.dumps(compare(read_rgb(a.image), read_rgb(a.reference), a.grid, stderr, ref_stderr)))
+    image, reference = read_rgb(a.image), read_rgb(a.reference)
+    result = compare(image, reference, a.grid, stderr, ref_stderr)
+    if a.second:
+        result.update(seed_pair(image, read_rgb(a.second), reference))
+    print(json.dumps(result))
 
 
 if __name__ == "__main__":

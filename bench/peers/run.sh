@@ -10,6 +10,7 @@
 #   bash bench/peers/run.sh [--scene NAME] [--sizes 640x360,1280x720] [--budgets 10,30,120]
 #                           [--threads 1] [--ref-spp N] [--renderers LIST] [--seed K]
 #                           [--out DIR] [--results FILE.md] [--max-mean-rel X] [--label TEXT]
+#                           [--second-seed]
 #
 #   --scene       cornell-box, cornell-glossy, rooms-100000, rooms-lambert-100000, or a .gltf/.glb
 #                 (bench/lib.sh bench_scene)                                        [cornell-box]
@@ -24,6 +25,9 @@
 #                 CPU device (a GPU is what it is)                                  [1]
 #   --max-mean-rel X  exit 1 when a render's image mean differs from the reference's by more
 #                 than X (relative; the conventions check, bench/peers/check_conventions.sh)
+#   --second-seed also render each at seed + 1: the table adds each renderer's own noise (half the
+#                 relMSE between its two renders) and what its relMSE holds beyond that noise and
+#                 the reference's (a model difference, a cache's or a discretisation's bias)
 #   --out         renders, logs and JSON figures                     [bench-out/peers/<scene>]
 #   --results     the table                        [bench/peers/results/<scene>-<date>.md]
 #
@@ -47,6 +51,7 @@ out=
 results=
 max_mean_rel=
 label=
+second_seed=
 cmdline="bash bench/peers/run.sh $*"
 while [ $# -gt 0 ]; do
   case $1 in
@@ -61,6 +66,7 @@ while [ $# -gt 0 ]; do
     --results) results=$2; shift 2 ;;
     --max-mean-rel) max_mean_rel=$2; shift 2 ;;
     --label) label=$2; shift 2 ;;
+    --second-seed) second_seed=1; shift ;;
     -h|--help) awk 'NR > 1 && /^#/ { print; next } NR > 1 { exit }' "$0"; exit 0 ;;
     *) echo "run.sh: unknown option $1" >&2; exit 2 ;;
   esac
@@ -102,8 +108,8 @@ if "$BUNDLEPATH" devices 2>&1 | grep -q "Portable Computing Language; CPU"; then
   bp_env=(env "POCL_MAX_PTHREAD_COUNT=$threads")
 fi
 
-render_one() {  # RENDERER SIZE BUDGET PREFIX -> PREFIX.exr, PREFIX.json (samples, render/set-up s)
-  local r=$1 size=$2 budget=$3 prefix=$4 w=${2%x*} h=${2#*x}
+render_one() {  # RENDERER SIZE BUDGET PREFIX SEED -> PREFIX.exr, PREFIX.json (samples, render/set-up s)
+  local r=$1 size=$2 budget=$3 prefix=$4 seed=$5 w=${2%x*} h=${2#*x}
   local t0 t1 rc=0
   t0=$(date +%s.%N)
   case $r in
@@ -171,9 +177,14 @@ PY
     for r in ${renderers//,/ }; do
       prefix=$out/$r-$size-${budget}s
       echo "run.sh: $r at $size, $budget s ..." >&2
-      render_one "$r" "$size" "$budget" "$prefix"
-      stats=()  # bundlepath's own error per block, and the reference's, for the worst block's z
-      [ -f "$prefix.bp.json" ] && stats=(--stats "$prefix.bp.json" --reference-stats "${ref%.exr}.json")
+      render_one "$r" "$size" "$budget" "$prefix" "$seed"
+      stats=()  # the second seed's render; bundlepath's own error per block, and the reference's
+      if [ -n "$second_seed" ]; then
+        echo "run.sh: $r at $size, $budget s, seed $((seed + 1)) ..." >&2
+        render_one "$r" "$size" "$budget" "$prefix-seed2" "$((seed + 1))"
+        stats=(--second "$prefix-seed2.exr")
+      fi
+      [ -f "$prefix.bp.json" ] && stats+=(--stats "$prefix.bp.json" --reference-stats "${ref%.exr}.json")
       cmp=$("$py" "$here/compare.py" "$prefix.exr" "$ref" "${stats[@]}")
       python3 - "$rows" "$size" "$budget" "$r" "$prefix.json" "$cmp" <<'PY'
 import json, sys
@@ -186,6 +197,8 @@ c = row["compare"]
 print("run.sh:   relMSE %.4g, worst 8x8 block %.1f %%, image mean %+.2f %%, %s, render %.1f s, set-up %.1f s"
       % (c["rel_mse"], 100 * c["worst_block"], 100 * c["mean_rel"], run.get("samples", "%s spp" % run.get("spp")),
          run["render_seconds"], run["setup_seconds"]), file=sys.stderr)
+if "noise_rel_mse" in c:
+    print("run.sh:   its own noise (two seeds) %.4g" % c["noise_rel_mse"], file=sys.stderr)
 PY
     done
   done
