@@ -66,7 +66,9 @@ def main():
         print("(the reference in the denominator) is its image's noise alone. Beyond noise: the relMSE less that")
         print("and less the reference's own, which is what no longer render of the same renderer removes: a")
         print("difference of model or conventions from bundlepath's, or a bias (a cache's, RB's discretisation).")
-        print("Both hold the pixels' noise; beyond-noise values within about 10 % of the own noise are noise.")
+        print("Both are estimates: for a path tracer beyond-noise values within a few percent of the own noise are")
+        print("noise; RB's error moves whole rooms together, so its pair is one draw of few degrees of freedom")
+        print("(its beyond noise has read -34 % of its own noise).")
     if a.load:
         print("Load average (1 min) when the run started and ended: %s: %s." % (a.load, "timings on a busy machine are indicative only"))
     for size in sorted(refs, key=lambda s: [int(x) for x in s.split("x")]):
