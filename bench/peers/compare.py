@@ -69,11 +69,15 @@ def stderr_on_grid(stats_path, grid):
     return None
 
 
-def compare(image, reference, grid=8, reported_stderr=None, reference_stderr=None):
+def check_comparable(image, reference):
     if image.shape != reference.shape:
         raise SystemExit("sizes differ: %s vs %s" % (image.shape, reference.shape))
     if not np.all(np.isfinite(image)):
         raise SystemExit("the image has non-finite pixels")
+
+
+def compare(image, reference, grid=8, reported_stderr=None, reference_stderr=None):
+    check_comparable(image, reference)
     rel_mse = float(np.mean((image - reference) ** 2 / (reference ** 2 + 0.01)))
     li, lr = luminance(image), luminance(reference)
     bi, br = block_means(li, grid), block_means(lr, grid)
@@ -93,8 +97,7 @@ def compare(image, reference, grid=8, reported_stderr=None, reference_stderr=Non
 
 
 def seed_pair(image, second, reference):
-    if second.shape != reference.shape:
-        raise SystemExit("sizes differ: %s vs %s" % (second.shape, reference.shape))
+    check_comparable(second, reference)
     seeds_rel_mse = float(np.mean((image - second) ** 2 / (reference ** 2 + 0.01)))
     return {"seeds_rel_mse": seeds_rel_mse, "noise_rel_mse": 0.5 * seeds_rel_mse}
 
