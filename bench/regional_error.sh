@@ -9,7 +9,9 @@
 # Writes a Markdown table to stdout and, with --maps DIR, one SVG of block errors per row.
 # Usage: bench/regional_error.sh [--scenes "S1 S2"] [--sizes "640x360"] [--budgets "30"]
 #          [--seeds "1 2 3 4"] [--modes "combined pt"] [--ref-spp N] [--regions N] [--maps DIR]
-#          [--work] [-- EXTRA RENDER OPTIONS]
+#          [--stats DIR] [--work] [-- EXTRA RENDER OPTIONS]
+#        --stats DIR: keeps each render's --stats JSON there (SCENE-SIZE-BUDGET-MODE-SEED.json:
+#        --ratio auto's probe, kappa, the render's error estimate).
 #        --work: budgets are "Nspp+Mit" or "Nspp" work counts (e.g. 8spp+256it at --ratio 1/32)
 #        instead of seconds, so a loaded machine measures the same renders.
 # Defaults: rooms-lambert-100000, 640x360, 30 s, seeds 1-4, combined and pt, 1024-spp reference.
@@ -18,7 +20,7 @@ here=$(cd "$(dirname "$0")" && pwd)
 # shellcheck source=bench/lib.sh
 source "$here/lib.sh"
 scenes="rooms-lambert-100000" sizes="640x360" budgets="30" seeds="1 2 3 4" modes="combined pt"
-ref_spp=1024 regions=8 maps="" work=0 extra=() refs=()
+ref_spp=1024 regions=8 maps="" stats_dir="" work=0 extra=() refs=()
 while [ $# -gt 0 ]; do
   case $1 in
     --scenes) scenes=$2; shift 2 ;;
@@ -29,9 +31,10 @@ while [ $# -gt 0 ]; do
     --ref-spp) ref_spp=$2; shift 2 ;;
     --regions) regions=$2; shift 2 ;;
     --maps) maps=$2; shift 2 ;;
+    --stats) stats_dir=$2; shift 2 ;;
     --work) work=1; shift ;;
     --) shift; extra=("$@"); break ;;
-    -h|--help) sed -n '2,15p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,17p' "$0"; exit 0 ;;
     *) echo "regional_error.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -39,6 +42,7 @@ cd "$bench_root"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 [ -z "$maps" ] || mkdir -p "$maps"
+[ -z "$stats_dir" ] || mkdir -p "$stats_dir"
 echo "| scene | size | budget | mode | seed | work | relMSE | relMSE estimated (own) | reference's own | worst block | block RMS | worst \|z\| | Šidák z | expected worst (own) | dof |"
 echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
 for scene_name in $scenes; do
@@ -120,6 +124,7 @@ if maps:
     out.append(f'<text x="0" y="{rows * cell + 12}" font-size="10">{scene} {mode} seed {seed}: red +5 %, blue -5 %</text></svg>')
     open(f"{maps}/{scene}-{size}-{budget}-{mode}-{seed}.svg", "w").write("\n".join(out))
 PY
+          [ -z "$stats_dir" ] || cp "$stats" "$stats_dir/"
         done
       done
     done
