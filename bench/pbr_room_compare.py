@@ -126,9 +126,9 @@ def main():
     else:
         worst_t = None
     res.update(blocks=int(rel.size), blocks_testable=int(testable.sum()),
-               worst_block=float(np.abs(rel).max()), worst_block_at=[int(worst[1]), int(worst[0])],
+               worst_block=float(rel[worst]), worst_block_at=[int(worst[1]), int(worst[0])],
                worst_block_sigma=float(sig[worst]),
-               worst_testable=float(abs(rel[worst_t])) if worst_t else None,
+               worst_testable=float(rel[worst_t]) if worst_t else None,
                worst_testable_at=[int(worst_t[1]), int(worst_t[0])] if worst_t else None,
                worst_testable_sigma=float(sig[worst_t]) if worst_t else None,
                over5=int(over.sum()), over5_testable=int((over & testable).sum()),
