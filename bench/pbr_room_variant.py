@@ -2,7 +2,8 @@
 """Control variants of scenes/blender-pbr-room.glb for bench/pbr_room.sh's diagnosis (standard
 library only; rewrites the .glb's JSON chunk, the binary chunk kept):
 
-  python3 bench/pbr_room_variant.py IN.glb OUT.glb [--lambert-room] [--nearest]
+  python3 bench/pbr_room_variant.py IN.glb OUT.glb [--lambert-room] [--nearest] [--flat MESH,...]
+                                     [--no-light NODE]
 
 --lambert-room: the paints, the plaster and the wood floor get KHR_materials_specular
   specularFactor 0 (bundlepath: pure Lambert; Blender's importer: Specular IOR Level 0, Principled
@@ -10,6 +11,10 @@ library only; rewrites the .glb's JSON chunk, the binary chunk kept):
   the room's large surfaces; the objects and the pane stay as they are.
 --nearest: every sampler NEAREST (Cycles: Closest), which takes the order of sRGB decoding and
   bilinear filtering out of the floor texture.
+--flat MESH,...: the named meshes lose their NORMAL and TANGENT attributes, so both renderers shade
+  them flat (glTF: flat normals where none are given), which takes the shading normals' treatment
+  at silhouettes out (e.g. --flat Sphere,Mesh: the gold sphere and the Suzanne).
+--no-light NODE: the node named NODE (e.g. sun) no longer carries its KHR_lights_punctual light.
 Then render OUT.glb as bench/pbr_room.sh does (bundlepath render ..., scenes/blender/cycles_pbr_render.py).
 """
 import argparse
@@ -25,6 +30,8 @@ def main():
     p.add_argument("dst")
     p.add_argument("--lambert-room", action="store_true")
     p.add_argument("--nearest", action="store_true")
+    p.add_argument("--flat", default="")
+    p.add_argument("--no-light", default="")
     a = p.parse_args()
     data = open(a.src, "rb").read()
     n = struct.unpack_from("<I", data, 12)[0]
@@ -35,6 +42,21 @@ def main():
             if m["name"] in LAMBERT:
                 m.setdefault("extensions", {})["KHR_materials_specular"] = {"specularFactor": 0.0}
         gltf["extensionsUsed"] = sorted(set(gltf.get("extensionsUsed", [])) | {"KHR_materials_specular"})
+    flat = set(filter(None, a.flat.split(",")))
+    unknown = flat - {m["name"] for m in gltf["meshes"]}
+    if unknown:
+        raise SystemExit("pbr_room_variant.py: no mesh named %s" % ", ".join(sorted(unknown)))
+    for m in gltf["meshes"]:
+        if m["name"] in flat:
+            for prim in m["primitives"]:
+                prim["attributes"].pop("NORMAL", None)
+                prim["attributes"].pop("TANGENT", None)
+    if a.no_light:
+        lit = [nd for nd in gltf["nodes"] if nd.get("name") == a.no_light and "KHR_lights_punctual" in nd.get("extensions", {})]
+        if not lit:
+            raise SystemExit("pbr_room_variant.py: no node named %s carries a light" % a.no_light)
+        for nd in lit:
+            del nd["extensions"]["KHR_lights_punctual"]
     if a.nearest:
         for s in gltf.get("samplers", []):
             s["magFilter"] = 9728
