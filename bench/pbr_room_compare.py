@@ -4,7 +4,7 @@
 noise, from a second render of each side at another seed.
 
   pbr_room_compare.py OURS1.exr OURS2.exr CYCLES1.exr CYCLES2.exr --label NAME
-                      [--block 8] [--patch L T R B] [--png SIDE_BY_SIDE.png] [--json OUT.json]
+                      [--block 8] [--regions 8] [--patch L T R B] [--png SIDE_BY_SIDE.png] [--json OUT.json]
 
 Each image may be A.exr+B.exr+...: the mean of those renders.
 --patch: the patch as fractions of the width and height (left, top, right, bottom).
@@ -14,6 +14,8 @@ sum_p (x1_p - x2_p)^2 / 2 / n^2 (pixels independent: exact for path tracing; for
 pixels share patches, an underestimate), and sigma of ours - Cycles is sqrt(sigma_ours^2 +
 sigma_Cycles^2). A block is "testable" against the 5 % bar when 3 sigma <= 5 % of its Cycles level;
 a block "fails" when it is testable and over 5 %; "significant" when over 3 sigma as well.
+--regions N: the same for the N x N grid of `render --regions N` (the regional error of the
+project's standard; noise from the pixels alike).
 Needs numpy and OpenEXR (the peers' venv has both); prints Markdown.
 """
 import argparse
@@ -63,6 +65,25 @@ def block_var(y1, y2, b):
     return d2[:bh * b, :bw * b].reshape(bh, b, bw, b).sum(axis=(1, 3)) / float(b * b) ** 2
 
 
+def region_index(y, n):
+    """Each pixel's row and column in the n x n grid of `render --regions n` (host/image/regions.h)."""
+    h, w = y.shape
+    return (np.arange(h) * n) // h, (np.arange(w) * n) // w
+
+
+def region_means(y, n):
+    rows, cols = region_index(y, n)
+    return np.array([[y[np.ix_(rows == j, cols == i)].mean() for i in range(n)] for j in range(n)])
+
+
+def region_var(y1, y2, n):
+    """Variance of one render's region mean, from the pixel differences of two seeds."""
+    d2 = (y1 - y2) ** 2 / 2.0
+    rows, cols = region_index(d2, n)
+    return np.array([[d2[np.ix_(rows == j, cols == i)].sum() / float((rows == j).sum() * (cols == i).sum()) ** 2
+                      for i in range(n)] for j in range(n)])
+
+
 def png_write(path, rgb8):
     h, w, _ = rgb8.shape
     raw = b"".join(b"\x00" + rgb8[j].tobytes() for j in range(h))
@@ -92,6 +113,7 @@ def main():
     p.add_argument("ref2")
     p.add_argument("--label", default="ours")
     p.add_argument("--block", type=int, default=8)
+    p.add_argument("--regions", type=int, default=8)
     p.add_argument("--patch", type=float, nargs=4)
     p.add_argument("--png")
     p.add_argument("--json")
@@ -138,6 +160,16 @@ def main():
                rms_sigma=float(np.sqrt(np.mean(np.where(np.isfinite(sig), sig, 0) ** 2))),
                median_sigma_cycles=float(np.median(sig_c[np.isfinite(sig_c)])))
 
+    # the 8 x 8 grid of regions (the project's regional error: `render --regions 8`)
+    ro, rc = region_means(yo1, a.regions), region_means(yc1, a.regions)
+    rrel = ro / rc - 1
+    rsig = np.sqrt(region_var(yo1, yo2, a.regions) + region_var(yc1, yc2, a.regions)) / rc
+    rworst = np.unravel_index(np.argmax(np.abs(rrel)), rrel.shape)
+    res.update(regions=a.regions, region_worst=float(rrel[rworst]), region_worst_at=[int(rworst[1]), int(rworst[0])],
+               region_worst_sigma=float(rsig[rworst]), region_over5=int((np.abs(rrel) > 0.05).sum()),
+               region_over5_significant=int(((np.abs(rrel) > 0.05) & (np.abs(rrel) > 3 * rsig)).sum()),
+               region_median_sigma=float(np.median(rsig)))
+
     # patch
     if a.patch:
         l, t, r, btm = a.patch
@@ -169,6 +201,11 @@ def main():
               if worst_t else "", res["over5"], res["over5_testable"], res["over5_significant"],
               res["significant_3sigma"], 100 * res["rms_rel"], 100 * res["rms_sigma"],
               100 * res["median_sigma_cycles"]))
+    print("%dx%d grid of regions (`render --regions %d`): worst region %s at (%d, %d) (sigma %.2f %%); regions over "
+          "5 %%: %d, of them over 3 sigma: %d; median sigma %.2f %%.\n" % (
+              a.regions, a.regions, a.regions, pct(res["region_worst"]), rworst[1], rworst[0],
+              100 * res["region_worst_sigma"], res["region_over5"], res["region_over5_significant"],
+              100 * res["region_median_sigma"]))
     print("Seed 2 against seed 1, image mean: %s %s, Cycles %s.\n" % (
         a.label, pct(res["mean_seed_ours"]), pct(res["mean_seed_cycles"])))
     if a.json:

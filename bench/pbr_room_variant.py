@@ -2,13 +2,16 @@
 """Control variants of scenes/blender-pbr-room.glb for bench/pbr_room.sh's diagnosis (standard
 library only; rewrites the .glb's JSON chunk, the binary chunk kept):
 
-  python3 bench/pbr_room_variant.py IN.glb OUT.glb [--lambert-room] [--nearest] [--flat MESH,...]
-                                     [--no-light NODE]
+  python3 bench/pbr_room_variant.py IN.glb OUT.glb [--lambert-room] [--lambert-objects] [--nearest]
+                                     [--flat MESH,...] [--no-light NODE]
 
 --lambert-room: the paints, the plaster and the wood floor get KHR_materials_specular
   specularFactor 0 (bundlepath: pure Lambert; Blender's importer: Specular IOR Level 0, Principled
   without a specular layer), which takes glTF's and Blender's different dielectric layering out of
   the room's large surfaces; the objects and the pane stay as they are.
+--lambert-objects: the same for the red plastic and the glazed ceramic, so that with --lambert-room
+  every dielectric is Lambert and only the metals and the pane keep a specular lobe (glTF's Schlick
+  Fresnel and Blender's exact one differ most on a dielectric's glare).
 --nearest: every sampler NEAREST (Cycles: Closest), which takes the order of sRGB decoding and
   bilinear filtering out of the floor texture.
 --flat MESH,...: the named meshes lose their NORMAL and TANGENT attributes, so both renderers shade
@@ -22,6 +25,7 @@ import json
 import struct
 
 LAMBERT = ("white_paint", "ceiling_paint", "plaster", "wood_floor")
+LAMBERT_OBJECTS = ("red_plastic", "glazed_ceramic")
 
 
 def main():
@@ -29,6 +33,7 @@ def main():
     p.add_argument("src")
     p.add_argument("dst")
     p.add_argument("--lambert-room", action="store_true")
+    p.add_argument("--lambert-objects", action="store_true")
     p.add_argument("--nearest", action="store_true")
     p.add_argument("--flat", default="")
     p.add_argument("--no-light", default="")
@@ -37,9 +42,10 @@ def main():
     n = struct.unpack_from("<I", data, 12)[0]
     gltf = json.loads(data[20:20 + n])
     rest = data[20 + n:]
-    if a.lambert_room:
+    lambert = (LAMBERT if a.lambert_room else ()) + (LAMBERT_OBJECTS if a.lambert_objects else ())
+    if lambert:
         for m in gltf["materials"]:
-            if m["name"] in LAMBERT:
+            if m["name"] in lambert:
                 m.setdefault("extensions", {})["KHR_materials_specular"] = {"specularFactor": 0.0}
         gltf["extensionsUsed"] = sorted(set(gltf.get("extensionsUsed", [])) | {"KHR_materials_specular"})
     flat = set(filter(None, a.flat.split(",")))
