@@ -4,7 +4,8 @@
 noise, from a second render of each side at another seed.
 
   pbr_room_compare.py OURS1.exr OURS2.exr CYCLES1.exr CYCLES2.exr --label NAME
-                      [--block 8] [--regions 8] [--patch L T R B] [--png SIDE_BY_SIDE.png] [--json OUT.json]
+                      [--block 8] [--regions 8] [--patch L T R B] [--at X,Y ...] [--png SIDE_BY_SIDE.png]
+                      [--json OUT.json]
 
 Each image may be A.exr+B.exr+...: the mean of those renders.
 --patch: the patch as fractions of the width and height (left, top, right, bottom).
@@ -14,6 +15,7 @@ sum_p (x1_p - x2_p)^2 / 2 / n^2 (pixels independent: exact for path tracing; for
 pixels share patches, an underestimate), and sigma of ours - Cycles is sqrt(sigma_ours^2 +
 sigma_Cycles^2). A block is "testable" against the 5 % bar when 3 sigma <= 5 % of its Cycles level;
 a block "fails" when it is testable and over 5 %; "significant" when over 3 sigma as well.
+--at X,Y ...: those BxB blocks (column, row) too, each side's mean over both seeds.
 --regions N: the same for the N x N grid of `render --regions N` (the regional error of the
 project's standard; noise from the pixels alike).
 Needs numpy and OpenEXR (the peers' venv has both); prints Markdown.
@@ -115,6 +117,7 @@ def main():
     p.add_argument("--block", type=int, default=8)
     p.add_argument("--regions", type=int, default=8)
     p.add_argument("--patch", type=float, nargs=4)
+    p.add_argument("--at", nargs="*", default=[])
     p.add_argument("--png")
     p.add_argument("--json")
     a = p.parse_args()
@@ -206,6 +209,16 @@ def main():
               a.regions, a.regions, a.regions, pct(res["region_worst"]), rworst[1], rworst[0],
               100 * res["region_worst_sigma"], res["region_over5"], res["region_over5_significant"],
               100 * res["region_median_sigma"]))
+    if a.at:
+        bo2, bc2 = blocks(yo2, b), blocks(yc2, b)
+        print("| block (column, row) | %s, seeds 1 and 2 | Cycles, seeds 1 and 2 | difference of the means |" % a.label)
+        print("|---|---|---|---|")
+        for at in a.at:
+            i, j = (int(v) for v in at.split(","))
+            mo_, mc_ = (bo[j, i] + bo2[j, i]) / 2, (bc[j, i] + bc2[j, i]) / 2
+            print("| (%d, %d) | %.4g, %.4g | %.4g, %.4g | %s |" % (i, j, bo[j, i], bo2[j, i], bc[j, i], bc2[j, i],
+                                                               pct(mo_ / mc_ - 1, 1)))
+        print()
     print("Seed 2 against seed 1, image mean: %s %s, Cycles %s.\n" % (
         a.label, pct(res["mean_seed_ours"]), pct(res["mean_seed_cycles"])))
     if a.json:
