@@ -331,3 +331,125 @@ __kernel void pathtrace(__global const BvhNode* nodes, __global const BvhTriangl
   out->rays = rays;
   out->nonfinite_samples = nonfinite;
 }
+
+// The albedo a denoiser reads at a surface (docs/design.md §13): what it reflects of white light in
+// [0, 1]. Modified Phong: kd + ks; glTF's model: the diffuse base under its Fresnel layer, the layer,
+// and the metal's Schlick colour at n.wo.
+static float3 surface_albedo(const Bsdf* bsdf, float cos_o) {
+  if (!bsdf_is_ggx(bsdf)) return clamp(bsdf->kd + bsdf->ks, 0.0f, 1.0f);
+  const MetallicRoughness* mr = &bsdf->metallic_roughness;
+  const float w = schlick_weight(clamp(cos_o, 0.0f, 1.0f));
+  const float f_dielectric = mr->specular_weight * schlick_scalar(bp_max3(mr->dielectric_f0), w);
+  const float3 f_metal = mr->base_color + (make_float3(1.0f, 1.0f, 1.0f) - mr->base_color) * w;
+  const float3 dielectric = mr->base_color * (1.0f - f_dielectric) + make_float3(f_dielectric, f_dielectric, f_dielectric);
+  return clamp((dielectric * (1.0f - mr->metallic) + f_metal * mr->metallic) * mr->opaque, 0.0f, 1.0f);
+}
+
+// The first-hit features of one camera ray for a denoiser (docs/design.md §13): the albedo and the
+// shading normal (world space, towards the eye) of the first surface that is not a delta vertex --
+// through a pane's mirror, refractions and reflections of glass, to what is seen behind them, the
+// albedo times what they pass on. A ray that leaves the scene: the environment clamped to [0, 1] as
+// albedo, and no normal.
+typedef struct {
+  float3 albedo;
+  float3 normal;
+} FirstHitFeatures;
+
+static FirstHitFeatures first_hit_features_of(const SceneRefs* scene, const PathTraceParams* params, float3 origin,
+                                              float3 dir, Rng* rng) {
+  FirstHitFeatures out;
+  out.albedo = make_float3(0.0f, 0.0f, 0.0f);
+  out.normal = make_float3(0.0f, 0.0f, 0.0f);
+  float3 throughput = make_float3(1.0f, 1.0f, 1.0f);
+  bp_u32 rays = 0u;
+  for (bp_u32 depth = 0; depth < BP_DELTA_RUN_BEFORE_ROULETTE; ++depth) {
+    Hit hit;
+    bp_u32 pane_event;
+    if (!closest_hit_through_panes(scene->nodes, scene->triangles, scene->shading, scene->materials,
+                                   &scene->lights.textures, scene->alpha_masks, origin, dir, params->ray_epsilon, 1,
+                                   rng, &throughput, &pane_event, &hit, &rays)) {
+      out.albedo = throughput * clamp(environment_radiance(&scene->lights.environment, dir), 0.0f, 1.0f);
+      return out;
+    }
+    SurfaceHit surface = surface_at_shaded(scene->shading, scene->cluster_fans, scene->shading_normals,
+                                           params->shading_normals, &scene->lights.textures, scene->tangents,
+                                           hit.triangle, hit.b1, hit.b2, origin + dir * hit.t, dir);
+    int delta = BP_FEATURE_TRANSMISSION && pane_event == BP_PANE_MIRROR;
+    if (delta) dir = reflect_about(-dir, surface.normal);
+    BP_GLOBAL const Material* hit_material = &scene->materials[surface.material];
+    if (BP_FEATURE_TRANSMISSION && !delta && (hit_material->flags & BP_MATERIAL_REFRACTOR)) {
+      const int front = surface.reflects;
+      const float rest = front || (hit_material->flags & BP_MATERIAL_DOUBLE_SIDED)
+                             ? bsdf_from_material(hit_material).continuation : 0.0f;
+      DielectricSample ds = dielectric_sample(-dir, surface.shading_normal, surface.normal, front, hit_material->ior,
+                                              hit_material->transmission, bp_load3(hit_material->transmission_tint),
+                                              rest, rng_uniform(rng));
+      if (ds.event == BP_DIELECTRIC_ABSORBED) return out;
+      delta = ds.event != BP_DIELECTRIC_REST;
+      if (delta) {
+        throughput *= ds.factor;
+        dir = ds.wi;
+      }
+    }
+    if (delta) {
+      origin = surface.position + surface.normal * (dot(surface.normal, dir) > 0.0f ? params->ray_epsilon
+                                                                                     : -params->ray_epsilon);
+      continue;
+    }
+    Bsdf bsdf = pt_bsdf(scene, &surface, &hit);
+    float3 albedo = surface_albedo(&bsdf, dot(surface.shading_normal, -dir));
+    // An emitter of no albedo (a light's own surface): its colour, so the denoiser keeps its edges.
+    if (albedo.x + albedo.y + albedo.z <= 0.0f && bp_max3(bsdf.emission) > 0.0f)
+      albedo = bsdf.emission / bp_max3(bsdf.emission);
+    out.albedo = throughput * albedo;
+    out.normal = surface.shading_normal;
+    return out;
+  }
+  return out;
+}
+
+// The first-hit albedo and normal of every pixel, box-filtered like the beauty: the mean over
+// params.samples_per_launch^2 camera rays stratified over the pixel. features: 6 floats per pixel
+// (albedo RGB, normal XYZ). The other arguments are the path tracer's, so that both share one
+// program and one argument list.
+__kernel void first_hit_features(__global const BvhNode* nodes, __global const BvhTriangle* triangles,
+                                 __global const TriangleShading* shading, __global const Material* materials,
+                                 __global const Light* lights, __global const float* light_cdf,
+                                 const CameraParams camera, const PathTraceParams params, __global float* features,
+                                 __global const LightTreeNode* light_tree,
+                                 __global const LightReceiver* light_receivers, const uint light_selection,
+                                 __global const float* shading_normals, __global const TextureView* texture_views,
+                                 __global const uint* texels, __global const MaterialTextures* material_textures,
+                                 __global const float* texcoords, __global const Material* patch_materials,
+                                 const uint alpha_masks, __global const float* environment,
+                                 __global const float* tangents, __global const ClusterFan* cluster_fans) {
+  bp_u32 pixel = (bp_u32)get_global_id(0);
+  if (pixel >= camera.width * camera.height) return;
+  SceneRefs scene = {nodes, triangles, shading, cluster_fans, materials, shading_normals, tangents,
+                     light_set(lights, light_cdf, light_tree, light_receivers, params.light_count, light_selection),
+                     patch_materials, alpha_masks};
+  const TextureSet textures = {texture_views, texels, material_textures, texcoords, params.uv_slots};
+  scene.lights.textures = textures;
+  scene.lights.environment = environment_map(environment, params.environment_width, params.environment_height);
+  bp_u32 px = pixel % camera.width, py = pixel / camera.width;
+  float3 origin = make_float3(camera.position[0], camera.position[1], camera.position[2]);
+  float3 albedo = make_float3(0.0f, 0.0f, 0.0f), normal = make_float3(0.0f, 0.0f, 0.0f);
+  const bp_u32 side = max(params.samples_per_launch, 1u);
+  for (bp_u32 s = 0u; s < side * side; ++s) {
+    Rng rng = rng_init(params.seed, pixel, s);
+    float jx = ((float)(s % side) + rng_uniform(&rng)) / (float)side;
+    float jy = ((float)(s / side) + rng_uniform(&rng)) / (float)side;
+    FirstHitFeatures f = first_hit_features_of(&scene, &params, origin, camera_ray_direction(&camera, px, py, jx, jy),
+                                               &rng);
+    if (isfinite(f.albedo.x + f.albedo.y + f.albedo.z + f.normal.x + f.normal.y + f.normal.z)) {
+      albedo += f.albedo;
+      normal += f.normal;
+    }
+  }
+  const float inv = 1.0f / (float)(side * side);
+  albedo = clamp(albedo * inv, 0.0f, 1.0f);
+  normal *= inv;
+  __global float* out = &features[(size_t)pixel * 6u];
+  out[0] = albedo.x; out[1] = albedo.y; out[2] = albedo.z;
+  out[3] = normal.x; out[4] = normal.y; out[5] = normal.z;
+}

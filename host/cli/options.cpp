@@ -92,6 +92,9 @@ options:
   --help-all          every option, with the estimator's tuning knobs
 
 outputs:
+  --denoise           denoise the image with OpenImageDenoise (colour + albedo + normal, as
+                      Blender does), inside --time; the EXR keeps the render's own as raw.*,
+                      the PNG is the denoised one. Needs `bash scripts/setup.sh --oidn`
   --layers all        also write the unweighted pt_raw and rb_raw layers
   --contact-sheet F   write F.png: unweighted PT, weighted PT, combined, unweighted RB,
                       weighted RB, reference (implies --layers all)
@@ -365,6 +368,8 @@ RenderOptions parse_render_options(const std::vector<std::string>& args) {
     std::string arg = args[i];
     if (arg == "--no-light-sampling") {  // the flags without a value
       o.light_sampling = false;
+    } else if (arg == "--denoise") {
+      o.denoise = true;
     } else if (arg == "--camera-animation") {
       o.views.animation = true;
     } else if (arg.rfind("--", 0) == 0) {

@@ -76,9 +76,14 @@ void print_summary(const RenderOptions& o, const RenderResult& r) {
     std::snprintf(bias, sizeof bias, "; the ray bundles' bias not checked yet, not included (%llu of %llu batch pairs)",
                   static_cast<unsigned long long>(r.rb_bias_paired_batches),
                   static_cast<unsigned long long>(kRbBiasMinPairedBatches));
+  if (r.denoised)
+    std::fprintf(stderr, "bundlepath: denoised by OpenImageDenoise in %.2f s (albedo and normal, prefiltered); the raw "
+                 "image is the EXR's raw layers, and the error estimates below are of it, not of the denoised one\n",
+                 r.denoise_seconds);
   if (std::isfinite(r.estimated_rel_mse))
-    std::fprintf(stderr, "bundlepath: estimated relMSE %.3g%s (noise from %s%s)%s\n",
-                 r.estimated_rel_mse, r.frames.size() > 1 ? " (worst frame)" : "", batches.c_str(), bias,
+    std::fprintf(stderr, "bundlepath: estimated relMSE %.3g%s%s (noise from %s%s)%s\n",
+                 r.estimated_rel_mse, r.denoised ? " of the raw image" : "", r.frames.size() > 1 ? " (worst frame)" : "",
+                 batches.c_str(), bias,
                  o.target_error > 0.0 ? (r.outcome.target_reached ? ": --target-error reached"
                                                                   : ": --target-error not reached")
                                       : "");

@@ -58,4 +58,15 @@ class PathTracerPass : public ProgressivePass {
   Launcher launcher_;
 };
 
+// What a denoiser reads beside the beauty (docs/design.md §13): each pixel's first-hit albedo and
+// shading normal, seen through delta vertices (mirrors, glass), averaged over samples_per_side^2
+// camera rays stratified over the pixel (the beauty's box filter). The same program as the path
+// tracer's (kernels/pathtrace.cl, first_hit_features); deterministic.
+struct FirstHitFeatures {
+  ImageRGB albedo, normal;
+};
+FirstHitFeatures render_first_hit_features(const DeviceContext& device, const DeviceScene& scene,
+                                           const CameraParams& camera, const std::string& kernel_options,
+                                           std::uint32_t samples_per_side = 4);
+
 }  // namespace bp

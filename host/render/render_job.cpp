@@ -8,12 +8,18 @@
 #include "render/render_state.h"
 #include "render/render_stats.h"
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <optional>
 #include <vector>
 
 namespace bp {
 namespace {
+
+// The beauty's denoise over the prefilter of its albedo and normal (two filters), to keep it inside
+// --time (prepare_features). An over-estimate: the beauty's filter took 0.52-0.62 of the prefilter.
+constexpr double kDenoiseCostOverPrefilter = 0.75;
 
 // Each view's estimate after the rounds done (closing a batch where they end one), of the image as
 // written (RB's layer with --rb-level's factors), and the worst.
@@ -212,6 +218,27 @@ void save_checkpoint(RenderState& s, std::uint64_t rounds, double seconds) {
   write_checkpoint(s.spec.checkpoint_path, c);
 }
 
+// Each view's first-hit albedo and normal (the EXR's albedo and normal layers), on root's first
+// device; with --denoise prefiltered, and the time they and the beauty's denoise will take kept out of
+// --time's rounds. The beauty's filter costs about what one auxiliary image's did (OIDN's "RT" filter
+// on three inputs against one, measured on 2 CPU cores: docs/results.md).
+void prepare_features(RenderState& s) {
+  if (!s.ranks.root()) return;
+  const auto start = std::chrono::steady_clock::now();
+  double prefilter_seconds = 0.0;
+  const RenderDevice& device = *s.devices.front();
+  for (RenderView& view : s.views) {
+    view.features = render_first_hit_features(device.context, device.scene, view.camera, s.kernel_options);
+    if (!s.denoiser) continue;
+    const auto before = std::chrono::steady_clock::now();
+    view.prefiltered = view.features;
+    s.denoiser->prefilter(view.prefiltered.albedo, view.prefiltered.normal);
+    prefilter_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - before).count();
+  }
+  s.denoise_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (s.denoiser) s.reserved_seconds = s.denoise_seconds + kDenoiseCostOverPrefilter * prefilter_seconds;
+}
+
 // What the render loop runs, and its round target.
 void build_schedule(RenderState& s) {
   const RenderSpec& o = s.spec;
@@ -304,7 +331,9 @@ void render_rounds(RenderState& s, RenderObserver& observer) {
                                                      : (s.shape ? s.shape->pt_samples * pixels : pixels);
   // On several ranks root alone decides when the time or --target-error ends the render; every rank
   // stops at the round they agree on (rounds and Ctrl-C on any rank, else root's reason).
-  RenderBudget budget{s.rounds, s.ranks.root() ? o.seconds : 0.0, {}};
+  // --time holds what comes after the rounds too (--denoise): they get the rest, at least a tenth.
+  const double round_seconds = o.seconds > 0.0 ? std::max(o.seconds - s.reserved_seconds, 0.1 * o.seconds) : 0.0;
+  RenderBudget budget{s.rounds, s.ranks.root() ? round_seconds : 0.0, {}};
   if (s.several_ranks())
     budget.agree_stop = [&](LoopStop stop) { return LoopStop(s.ranks.max_over_ranks(int(stop))); };
   // --target-error: done once every view's estimate has the degrees of freedom to say that the
@@ -398,6 +427,13 @@ RenderJob::~RenderJob() = default;
 
 RenderResult RenderJob::run(RenderObserver& observer) {
   RenderState s(spec_, ranks_);
+  if (spec_.denoise && ranks_.root()) {  // before the scene: a missing library is a usage error, found at once
+    try {
+      s.denoiser = Denoiser::open();
+    } catch (const DenoiserUnavailable& e) {
+      throw UsageError(e.what());
+    }
+  }
   s.scene = prepare_scene(spec_, [&](const std::string& line) { observer.note(line); });
   choose_round(s);
   open_devices(s);
@@ -408,6 +444,7 @@ RenderResult RenderJob::run(RenderObserver& observer) {
   start_rb_levels(s);
   start_error_estimate(s);
   build_schedule(s);
+  prepare_features(s);
   render_rounds(s, observer);
 
   RenderResult r;
@@ -431,8 +468,10 @@ RenderResult RenderJob::run(RenderObserver& observer) {
   count_work(s, r);
   r.ranks = s.ranks.size();
   if (!s.ranks.root()) return r;  // root alone holds the render's sums and writes its files
+  const auto outputs_start = std::chrono::steady_clock::now();
   for (const RenderView& view : s.views) {
     RenderLayers layers = make_layers(s, view);
+    if (s.denoiser) denoise_image(*s.denoiser, view, layers);
     RenderFrame frame = write_images(s, view, layers);
     frame.estimated_rel_mse = view.estimated_rel_mse;
     if (r.frames.empty()) {
@@ -443,6 +482,10 @@ RenderResult RenderJob::run(RenderObserver& observer) {
     }
     r.frames.push_back(frame);
   }
+  r.denoised = s.denoiser != nullptr;
+  r.denoise_seconds = s.denoise_seconds;
+  if (s.denoiser)  // the beauty's denoise, timed with the files written
+    r.denoise_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - outputs_start).count();
   if (!spec_.video_path.empty()) encode_video(s, r);
   r.stats = render_stats(s, r);
   if (!spec_.stats_path.empty()) write_json_file(spec_.stats_path, r.stats);

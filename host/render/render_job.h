@@ -90,6 +90,8 @@ struct RenderResult {
   std::vector<std::pair<std::string, ImageRGB>> layers;
   nlohmann::json stats;
   std::string device_failure;  // empty, or which device failed mid-render and why (the image is what was done)
+  bool denoised = false;        // --denoise: the main layers and the PNG are OpenImageDenoise's; raw.* the render's
+  double denoise_seconds = 0.0;  // the features, their prefilter and the denoise, on top of outcome.seconds
 };
 
 class RenderJob {

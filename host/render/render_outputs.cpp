@@ -1,6 +1,7 @@
 #include "render/render_outputs.h"
 
 #include "image/contact_sheet.h"
+#include "image/denoiser.h"
 #include "image/video.h"
 #include "render/render_state.h"
 
@@ -71,6 +72,13 @@ RenderLayers make_layers(const RenderState& s, const RenderView& view) {
   return layers;
 }
 
+void denoise_image(const Denoiser& denoiser, const RenderView& view, RenderLayers& layers) {
+  ImageRGB& beauty = layers.images.front().second;
+  ImageRGB denoised = denoiser.denoise(beauty, view.prefiltered.albedo, view.prefiltered.normal);
+  layers.images.insert(layers.images.begin() + 1, {"raw", std::move(beauty)});
+  layers.images.front().second = std::move(denoised);
+}
+
 RenderFrame write_images(const RenderState& s, const RenderView& view, const RenderLayers& layers) {
   const RenderSpec& o = s.spec;
   std::filesystem::path prefix(view.out_prefix);
@@ -86,6 +94,9 @@ RenderFrame write_images(const RenderState& s, const RenderView& view, const Ren
   // Each region's relative standard error of its mean luminance (DESIGN.md §9, "Regional error").
   const ImageRGB region_error = region_error_image(*view.regional_error);
   exr_layers.push_back({"region_error", &region_error});
+  // What a denoiser reads (docs/design.md §13), for OpenImageDenoise here or a compositor elsewhere.
+  exr_layers.push_back({"albedo", &view.features.albedo});
+  exr_layers.push_back({"normal", &view.features.normal});
   write_exr(result.exr_path, exr_layers);
   write_png(result.png_path, layers.images.front().second, o.exposure);
   if (!o.contact_sheet_path.empty()) {

@@ -10,11 +10,12 @@
 
 namespace bp {
 
+class Denoiser;
 struct RenderState;
 struct RenderView;
 
-// "" is the combined image (R,G,B = pt + rb of the weighted images, eq. 3); then pt, rb (combined
-// renders) and pt_raw, rb_raw (--layers all).
+// "" is the combined image (R,G,B = pt + rb of the weighted images, eq. 3; denoised with --denoise,
+// then "raw" is the render's own); then pt, rb (combined renders) and pt_raw, rb_raw (--layers all).
 struct RenderLayers {
   std::vector<std::pair<std::string, ImageRGB>> images;
   const ImageRGB* find(const std::string& name) const;
@@ -26,6 +27,10 @@ RenderLayers make_layers(const RenderState& s, const RenderView& view);
 std::vector<double> rb_pixel_factors(const RenderView& view);
 // RB's weight per region that those factors take from the regional error (empty: RbLevel's own).
 std::vector<double> rb_region_weights(const RenderView& view);
+
+// --denoise: the combined image ("") denoised by OpenImageDenoise with the view's prefiltered albedo
+// and normal, the render's own kept as "raw" after it.
+void denoise_image(const Denoiser& denoiser, const RenderView& view, RenderLayers& layers);
 
 // Writes the view's PREFIX.exr (the layers and the standard error), PREFIX.png and the contact sheet
 // (one view); gives their paths.

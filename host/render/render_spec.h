@@ -51,6 +51,7 @@ struct RenderSpec {
   int regions = 8;               // --regions N: the N x N grid of the regional error and --rb-level regional
   double target_block_error = 0.0;  // --target-block-error: stop once the expected worst region's error is at most this
   bool all_layers = false;       // --layers all: also pt_raw and rb_raw
+  bool denoise = false;          // --denoise: OpenImageDenoise on the image (raw.* kept), inside --time
   bool light_sampling = true;    // --no-light-sampling turns it off (light_sampling_applies says where it acts)
   std::string light_selection = "tree";  // light sampling's choice of light: tree (per receiving patch) or power
   bool generic_kernels = false;  // --kernels generic: every feature compiled in (for comparison)

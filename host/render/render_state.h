@@ -2,6 +2,7 @@
 // render_outputs.cpp and render_stats.cpp read them). Internal to host/render/.
 #pragma once
 #include "image/accumulator.h"
+#include "image/denoiser.h"
 #include "image/error_estimate.h"
 #include "image/rb_level.h"
 #include "image/regional_error.h"
@@ -40,6 +41,8 @@ struct RenderView {
   std::optional<RegionalError> regional_error;  // each region's error (image/regional_error.h)
   double expected_worst_region_error = NAN;     // its expected largest relative error
   std::string out_prefix;  // --out, or PREFIX_0000, PREFIX_0001, ... for a walkthrough's frames
+  FirstHitFeatures features;     // the albedo and normal layers (passes/path_tracer.h)
+  FirstHitFeatures prefiltered;  // --denoise: the same denoised alone, as the beauty's filter reads them
 };
 
 struct RenderState {
@@ -77,6 +80,10 @@ struct RenderState {
   std::optional<BundleGeometry> geometry;
   RayBundleSettings rb_settings;
   std::optional<RatioProbe> probe;
+
+  std::unique_ptr<Denoiser> denoiser;  // --denoise
+  double denoise_seconds = 0.0;        // the features, their prefilter and the beauty's denoise (root)
+  double reserved_seconds = 0.0;       // of --time, kept for what comes after the rounds (--denoise)
 
   std::optional<Checkpoint> resumed;
   std::uint64_t first_round = 0;

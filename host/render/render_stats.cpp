@@ -233,6 +233,13 @@ nlohmann::json render_stats(const RenderState& s, const RenderResult& r) {
   if (!r.device_failure.empty()) stats["device_failure"] = r.device_failure;
   stats["ranks"] = r.ranks;  // MPI ranks; "devices" are rank 0's
   stats["mode"] = o.mode;
+  // --denoise: the image is OpenImageDenoise's; every error estimate here is of the raw image.
+  stats["denoised"] = r.denoised;
+  if (s.denoiser)
+    stats["denoiser"] = {{"library", s.denoiser->library_path()},
+                         {"version", s.denoiser->version()},
+                         {"seconds", r.denoise_seconds},
+                         {"error_estimates_are_of", "the raw image (the EXR's raw layers)"}};
   stats["width"] = s.scene.width;
   stats["height"] = s.scene.height;
   stats["spp"] = r.pt_samples;
