@@ -6,8 +6,10 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 fuzz_seconds="${BUNDLEPATH_FUZZ_SECONDS:-60}"
 # gnuplot-nox: the bench smoke test (bench_quick_smoke) then draws its plots too; ffmpeg: the
-# walkthrough's --video test (Walkthrough.VideoEncodesEveryFrame) then runs rather than skips.
-if [ "$fuzz_seconds" -gt 0 ]; then bash scripts/setup.sh --fuzz gnuplot-nox ffmpeg; else bash scripts/setup.sh gnuplot-nox ffmpeg; fi
+# walkthrough's --video test (Walkthrough.VideoEncodesEveryFrame) then runs rather than skips;
+# --oidn: OpenImageDenoise for --denoise, whose tests then must find it (BUNDLEPATH_TEST_REQUIRE_OIDN).
+if [ "$fuzz_seconds" -gt 0 ]; then bash scripts/setup.sh --fuzz --oidn gnuplot-nox ffmpeg; else bash scripts/setup.sh --oidn gnuplot-nox ffmpeg; fi
+export BUNDLEPATH_TEST_REQUIRE_OIDN=1
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release
 cmake --build build -j "$(nproc)"
 status=0

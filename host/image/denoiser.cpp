@@ -39,8 +39,9 @@ struct Denoiser::Api {
 };
 
 std::vector<std::string> denoiser_search_paths() {
+  // Set, the variable is the one place: a user's choice is not overridden by a copy elsewhere.
+  if (const char* env = std::getenv("BUNDLEPATH_OIDN_LIBRARY"); env && *env) return {library_in(env)};
   std::vector<std::string> places;
-  if (const char* env = std::getenv("BUNDLEPATH_OIDN_LIBRARY"); env && *env) places.push_back(library_in(env));
 #ifdef BUNDLEPATH_OIDN_DEFAULT_LIBRARY
   places.push_back(BUNDLEPATH_OIDN_DEFAULT_LIBRARY);
 #endif

@@ -22,9 +22,10 @@ class DenoiserUnavailable : public std::runtime_error {
 
 class Denoiser {
  public:
-  // Opens the library: $BUNDLEPATH_OIDN_LIBRARY (a file or its folder), else the copy
-  // scripts/setup.sh put beside the build (compiled in), else libOpenImageDenoise.so.2 on the
-  // system's library path. Throws DenoiserUnavailable naming each place it looked.
+  // Opens the library: $BUNDLEPATH_OIDN_LIBRARY (a file or its folder) where set, and nothing else;
+  // else the copy scripts/setup.sh --oidn put in .deps/oidn (compiled in), then
+  // libOpenImageDenoise.so.2 on the system's library path. Throws DenoiserUnavailable naming each
+  // place it looked.
   static std::unique_ptr<Denoiser> open();
   ~Denoiser();
   Denoiser(const Denoiser&) = delete;
