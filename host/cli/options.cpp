@@ -153,8 +153,10 @@ estimator tuning (the defaults are measured: docs/results.md):
                       density per patch: biased) or none (plain sum: counts twice)  [product]
   --beta B            product weights' per-vertex factor from PT's density P: clamped,
                       min(1, N2/(N1 P)), or balance, N2/(N2 + N1 P) (the paper's)  [clamped]
-  --rb-level L        RB's share scaled to the weighted mean of its own level and PT's estimate
-                      of it, per region (regional) or image (corrected), or own  [regional]
+  --rb-level L        RB's share corrected by PT's estimate of it: per region, then per block
+                      down to each pixel, by how far they differ beyond PT's noise, so the
+                      image converges to the true one (consistent); per region only (regional)
+                      or over the image (corrected): biased by RB's patches; or own  [consistent]
   --rb-light-rate R   combined with light sampling: the probability that a patch traces its
                       shadow ray in an iteration, in (0, 1]      [min(1, pixels / patches)]
   --rb-sun S          combined with light sampling: RB's patches sample a sun when their light
@@ -245,8 +247,8 @@ RenderOptions parse_render_options(const std::vector<std::string>& args) {
          o.weights = v;
        }},
       {"--rb-level", [&](auto& k, auto& v) {
-         if (v != "regional" && v != "corrected" && v != "own")
-           throw UsageError(k + ": expected regional, corrected or own, got '" + v + "'");
+         if (v != "consistent" && v != "regional" && v != "corrected" && v != "own")
+           throw UsageError(k + ": expected consistent, regional, corrected or own, got '" + v + "'");
          o.rb_level = v;
        }},
       {"--beta", [&](auto& k, auto& v) {

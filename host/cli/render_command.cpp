@@ -68,7 +68,10 @@ void print_summary(const RenderOptions& o, const RenderResult& r) {
   }
   // RB's bias as far as PT sees it (ImageErrorEstimate::rb_bias_rel_mse): a combined render's.
   char bias[160] = "";
-  if (r.rb_bias_rel_mse > 0.0)
+  if (r.consistent)  // the correction's own estimate holds what is left of RB's bias (image/share_correction.h)
+    std::snprintf(bias, sizeof bias, "; the ray bundles' share corrected by the path tracer's, what is left of its "
+                  "bias included");
+  else if (r.rb_bias_rel_mse > 0.0)
     std::snprintf(bias, sizeof bias, "; the ray bundles' bias, as the path tracer sees it: %.2g", r.rb_bias_rel_mse);
   else if (r.rb_bias_rel_mse == 0.0)
     std::snprintf(bias, sizeof bias, "; no ray-bundle bias seen");
@@ -93,7 +96,7 @@ void print_summary(const RenderOptions& o, const RenderResult& r) {
   // Where RB's bias is most of the error, more samples of the same mix will not remove it: say what will.
   // With the eye vertex's direct light shared, first that: RB's patch-level eye light is most of its
   // bias there (docs/results.md, "Who takes the eye vertex's direct light").
-  if (r.rb_bias_rel_mse > kRbBiasHintShare * r.estimated_rel_mse)
+  if (!r.consistent && r.rb_bias_rel_mse > kRbBiasHintShare * r.estimated_rel_mse)
     std::fprintf(stderr, "bundlepath: the ray bundles' bias is %.0f %% of that error and does not shrink with time; %smore of the "
                  "time for the path tracer (a larger --ratio, or --mode pt) lowers it\n",
                  100.0 * r.rb_bias_rel_mse / r.estimated_rel_mse,

@@ -305,7 +305,13 @@ std::vector<double> ImageErrorEstimate::layer_variance(std::size_t layer, int le
   return var;
 }
 
+void ImageErrorEstimate::set_consistent_share(std::vector<double> mean_square_error, std::vector<float> image) {
+  consistent_mse_ = std::move(mean_square_error);
+  consistent_image_ = std::move(image);
+}
+
 std::vector<double> ImageErrorEstimate::variance_of_mean(int level) const {
+  if (level == 0 && !consistent_mse_.empty()) return consistent_mse_;
   std::vector<double> sum;
   for (std::size_t l = 0; l < estimates_.size(); ++l) {
     std::vector<double> var = layer_variance(l, level);
@@ -322,6 +328,7 @@ double ImageErrorEstimate::rel_mse_of(const std::vector<double>& variance) const
   const double inv_rounds = 1.0 / double(estimates_.front().rounds());
   const LevelVarianceOf var{variance};
   return bp::rel_mse_of(var, width_, height_, [&](std::size_t i) {
+    if (!consistent_image_.empty()) return double(consistent_image_[i]);
     double image = 0.0;  // I = Σ layers' sums · factors / rounds
     for (std::size_t l = 0; l < layers_.size(); ++l) image += layers_[l].sums.at(i) * factor(l, i);
     return image * inv_rounds;
@@ -330,7 +337,8 @@ double ImageErrorEstimate::rel_mse_of(const std::vector<double>& variance) const
 
 double ImageErrorEstimate::estimated_rel_mse(int level) const {
   const double variance = rel_mse_of(variance_of_mean(level)), bias = rb_bias_rel_mse();
-  return std::isnan(bias) ? variance : variance + bias;
+  // Under --rb-level consistent the mean square error holds RB's bias already.
+  return std::isnan(bias) || (level == 0 && !consistent_mse_.empty()) ? variance : variance + bias;
 }
 
 double ImageErrorEstimate::layer_rel_mse(std::size_t layer, int level) const {
@@ -357,7 +365,7 @@ double ImageErrorEstimate::degrees_of_freedom() const {
 ImageRGB ImageErrorEstimate::standard_error() const {
   ImageRGB out(width_, height_);
   const std::vector<double> var = variance_of_mean(0);
-  for (std::size_t i = 0; i < var.size(); ++i) out.rgb[i] = float(std::sqrt(var[i]));
+  for (std::size_t i = 0; i < var.size(); ++i) out.rgb[i] = float(std::sqrt(std::max(0.0, var[i])));
   return out;
 }
 

@@ -152,6 +152,12 @@ class ImageErrorEstimate {
   // level the regional field had replaced: the estimate was 2-3x the spread between seeds.
   void set_rb_regional_level(const RegionGrid& grid, std::vector<double> rb_level_relative_variance,
                              std::vector<double> corrected_level_relative_variance);
+  // --rb-level consistent (image/share_correction.h): the image is PT's weighted layer plus RB's share
+  // corrected by PT's estimate of it, so its error per pixel and channel is not the layers' sum; the
+  // caller gives it (`mean_square_error`: PT's part's variance plus what the correction left of RB's,
+  // bias included) with the image. Level 0's variance and the standard error are then these, and no
+  // separate term for RB's bias is added or waited for. Empty: the layers' sum again.
+  void set_consistent_share(std::vector<double> mean_square_error, std::vector<float> image);
   // The image's relMSE (BatchMeansErrorEstimate's formula) with the layers' variances summed, from
   // each layer's batches of level j, plus rb_bias_rel_mse where it is known; NaN until every layer has
   // two batches.
@@ -166,7 +172,9 @@ class ImageErrorEstimate {
   double rb_bias_rel_mse() const;
   // A combined render whose check has not counted yet (fewer than kRbBiasMinPairedBatches paired
   // batches): its estimate has no term for RB's bias so far, and --target-error waits for one.
-  bool rb_bias_pending() const { return pt_rb_share_estimate_.has_value() && std::isnan(rb_bias_rel_mse()); }
+  bool rb_bias_pending() const {
+    return pt_rb_share_estimate_.has_value() && std::isnan(rb_bias_rel_mse()) && consistent_mse_.empty();
+  }
   // The round by which the check will have paired kRbBiasMinPairedBatches batches (RB's open batch
   // and the batches still missing, each of RB's batch length); 0 without the check.
   std::uint64_t rb_bias_rounds_needed() const;
@@ -209,6 +217,8 @@ class ImageErrorEstimate {
   std::optional<RoundSums> pt_rb_share_;
   std::optional<RegionGrid> rb_level_grid_;  // set_rb_regional_level's
   std::vector<double> rb_level_rho_r_, rb_level_rho_m_;
+  std::vector<double> consistent_mse_;  // set_consistent_share's
+  std::vector<float> consistent_image_;
   std::optional<BatchMeansErrorEstimate> pt_rb_share_estimate_;  // d, batched with RB's layer
   RbBiasSums rb_bias_sums_;
   std::size_t rb_layer() const;  // layers_.size(): none

@@ -21,6 +21,41 @@ namespace {
 // --time (prepare_features). An over-estimate: the beauty's filter took 0.52-0.62 of the prefilter.
 constexpr double kDenoiseCostOverPrefilter = 0.75;
 
+// PT's unweighted image u and its estimate of RB's share d = u − w, times the rounds.
+RoundSums pt_raw_round_sums(const RenderState& s, const RenderView& view) {
+  return RoundSums{&view.pt_accum.raw_sum, 1.0 / s.shape->pt_samples};
+}
+RoundSums pt_share_round_sums(const RenderState& s, const RenderView& view) {
+  return RoundSums{&view.pt_accum.raw_sum, 1.0 / s.shape->pt_samples, &view.pt_accum.sum};
+}
+
+// --rb-level consistent: the image's error per pixel and channel (image/share_correction.h). The image
+// is w + λ d + (1 − λ) r̃ at the pixel level (λ its weight of d): PT's part varies as
+// Var(w) + λ² Var(d) + 2 λ Cov(w, d), the covariance from Var(u) = Var(w + d); RB's part's error,
+// bias and noise, is what the correction left. Nothing before two batches of each.
+void set_consistent_error(RenderState& s, RenderView& view, std::optional<std::uint64_t> rounds_done) {
+  if (rounds_done) {
+    view.pt_raw_batches->add(*rounds_done, pt_raw_round_sums(s, view));
+    view.pt_share_batches->add(*rounds_done, pt_share_round_sums(s, view));
+  }
+  const ImageErrorEstimate& e = *view.error_estimate;
+  if (e.layers().empty() || std::string(e.layer_name(0)) != "pt") return;
+  const std::vector<double> var_w = e.layers()[0].variance_of_mean(), var_u = view.pt_raw_batches->variance_of_mean(),
+                            var_d = view.pt_share_batches->variance_of_mean();
+  const std::optional<ShareCorrection> share = consistent_share(s, view);
+  if (var_w.empty() || var_u.empty() || var_d.empty() || !share) return;
+  std::vector<double> mse(var_w.size());
+  for (std::size_t i = 0; i < mse.size(); ++i) {
+    const double lambda = share->lambda[i / 3], cov = 0.5 * (var_u[i] - var_w[i] - var_d[i]);
+    // Not clamped: over the image the residuals' noise cancels (the relMSE); a pixel's is clamped
+    // where it is shown (ImageErrorEstimate::standard_error).
+    mse[i] = var_w[i] + lambda * lambda * var_d[i] + 2.0 * lambda * cov + share->left_error[i];
+  }
+  std::vector<float> image = view.pt_accum.mean().rgb;
+  for (std::size_t i = 0; i < image.size(); ++i) image[i] += share->share.rgb[i];
+  view.error_estimate->set_consistent_share(std::move(mse), std::move(image));
+}
+
 // Each view's estimate after the rounds done (closing a batch where they end one), of the image as
 // written (RB's layer with --rb-level's factors), and the worst.
 void update_error_estimates(RenderState& s, std::optional<std::uint64_t> rounds_done) {
@@ -38,6 +73,7 @@ void update_error_estimates(RenderState& s, std::optional<std::uint64_t> rounds_
         view.error_estimate->set_rb_regional_level(view.regional_error->grid(), std::move(v.rb), std::move(v.corrected));
       }
       view.error_estimate->set_factors("rb", std::move(factors));
+      if (view.pt_share_batches) set_consistent_error(s, view, rounds_done);
     }
     view.estimated_rel_mse = view.error_estimate->estimated_rel_mse();
     if (std::isnan(s.estimated_rel_mse) || view.estimated_rel_mse > s.estimated_rel_mse)
@@ -186,6 +222,12 @@ void start_rb_levels(RenderState& s) {
     const int regions = rb_level_regions(s.spec);
     view.rb_level.emplace(RegionGrid::over(s.scene.width, s.scene.height, regions, regions), s.first_round,
                           view.pt_accum, s.shape->pt_samples, view.rb_accum, s.shape->rb_iterations, saved);
+    if (!rb_share_consistent(s.spec)) continue;
+    // PT's u and d per round, from the rounds this run renders (a resumed render's earlier rounds
+    // count in the means, not in the variances' batches).
+    const RoundSums u = pt_raw_round_sums(s, view), d = pt_share_round_sums(s, view);
+    view.pt_raw_batches.emplace(s.scene.width, s.scene.height, 1, 1, s.first_round, s.first_round ? &u : nullptr);
+    view.pt_share_batches.emplace(s.scene.width, s.scene.height, 1, 1, s.first_round, s.first_round ? &d : nullptr);
   }
 }
 
@@ -453,6 +495,7 @@ RenderResult RenderJob::run(RenderObserver& observer) {
   r.height = s.scene.height;
   r.combined = s.shape.has_value();
   r.eye_direct_shared = r.combined && s.eye_direct_shared;
+  r.consistent = s.first_view().pt_share_batches.has_value();
   r.mrays_per_second = s.outcome.seconds > 0 ? double(s.outcome.rays) / s.outcome.seconds * 1e-6 : 0.0;
   r.estimated_rel_mse = s.estimated_rel_mse;
   r.expected_worst_region_error = s.expected_worst_region_error;

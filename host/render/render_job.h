@@ -64,6 +64,7 @@ struct RenderResult {
   std::uint64_t pt_samples = 0, rb_iterations = 0;  // over the whole render (resumed ones included)
   bool combined = false;                            // PT and RB together (--mode combined)
   bool eye_direct_shared = false;                   // combined: the eye vertex's direct light shared with RB
+  bool consistent = false;  // --rb-level consistent: RB's share corrected by PT's, its left bias in the estimate
   double mrays_per_second = 0.0;
   std::string exr_path, png_path;
   std::vector<std::pair<std::string, ErrorMetrics>> reference_metrics;  // per layer, with --reference

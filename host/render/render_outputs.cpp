@@ -50,6 +50,15 @@ std::vector<double> rb_region_weights(const RenderView& view) {
 
 std::vector<double> rb_pixel_factors(const RenderView& view) { return view.rb_level->pixel_factors(rb_region_weights(view)); }
 
+std::optional<ShareCorrection> consistent_share(const RenderState& s, const RenderView& view) {
+  if (!view.pt_share_batches || !view.rb_level) return std::nullopt;
+  const ImageRGB rb = sum_images(ImageRGB(s.scene.width, s.scene.height), view.rb_accum.mean(), rb_pixel_factors(view));
+  ImageRGB d = view.pt_accum.raw_mean();
+  const ImageRGB w = view.pt_accum.mean();
+  for (std::size_t i = 0; i < d.rgb.size(); ++i) d.rgb[i] -= w.rgb[i];
+  return correct_share(rb, d, view.pt_share_batches->variance_of_mean());
+}
+
 RenderLayers make_layers(const RenderState& s, const RenderView& view) {
   const int width = s.scene.width, height = s.scene.height;
   const bool pt = !s.pt.empty();
@@ -58,8 +67,13 @@ RenderLayers make_layers(const RenderState& s, const RenderView& view) {
   ImageRGB rb_image = s.rb ? view.rb_accum.mean() : ImageRGB(width, height);
   // The combined image, pt + s·rb with --rb-level's field s (image/rb_level.h); the rb layer stays
   // RB's own weighted estimate.
-  const std::vector<double> rb_factors = view.rb_level ? rb_pixel_factors(view) : std::vector<double>{};
-  layers.images.emplace_back("", sum_images(pt_image, rb_image, rb_factors));
+  // Under --rb-level consistent, that share corrected by PT's estimate of it (image/share_correction.h).
+  if (std::optional<ShareCorrection> share = consistent_share(s, view)) {
+    layers.images.emplace_back("", sum_images(pt_image, share->share, {}));
+  } else {
+    const std::vector<double> rb_factors = view.rb_level ? rb_pixel_factors(view) : std::vector<double>{};
+    layers.images.emplace_back("", sum_images(pt_image, rb_image, rb_factors));
+  }
   // No rb layers where --ratio auto chose the path tracer alone: RB rendered nothing.
   if (s.shape) {
     layers.images.emplace_back("pt", pt_image);

@@ -2,8 +2,10 @@
 // layers' errors against --reference.
 #pragma once
 #include "image/image.h"
+#include "image/share_correction.h"
 #include "render/render_job.h"
 
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -31,6 +33,10 @@ std::vector<double> rb_region_weights(const RenderView& view);
 // --denoise: the combined image ("") denoised by OpenImageDenoise with the view's prefiltered albedo
 // and normal, the render's own kept as "raw" after it.
 void denoise_image(const Denoiser& denoiser, const RenderView& view, RenderLayers& layers);
+
+// --rb-level consistent (image/share_correction.h): RB's share as the image has it (its layer times
+// the regional field) corrected by PT's estimate of it; nullopt under the other levels.
+std::optional<ShareCorrection> consistent_share(const RenderState& s, const RenderView& view);
 
 // Writes the view's PREFIX.exr (the layers and the standard error), PREFIX.png and the contact sheet
 // (one view); gives their paths.

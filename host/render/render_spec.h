@@ -47,7 +47,7 @@ struct RenderSpec {
   std::string eye_direct = "auto";  // combined + light sampling: the eye vertex's direct light, shared, pt or auto
   bool rb_sun_own = false;          // combined + light sampling: --rb-sun own (RB samples each sun every iteration)
   double ratio = -1.0;           // combined: PT samples per pixel per RB iteration (0: RB alone); < 0: auto
-  std::string rb_level = "regional";  // combined, product weights: RB's layer level: regional, corrected or own
+  std::string rb_level = "consistent";  // combined, product weights: RB's share: consistent, regional, corrected or own
   int regions = 8;               // --regions N: the N x N grid of the regional error and --rb-level regional
   double target_block_error = 0.0;  // --target-block-error: stop once the expected worst region's error is at most this
   bool all_layers = false;       // --layers all: also pt_raw and rb_raw
@@ -90,7 +90,10 @@ inline bool rb_level_corrected(const RenderSpec& o) {
   return o.mode == "combined" && o.weights == "product" && o.rb_level != "own" && o.ratio != 0.0;
 }
 // The grid --rb-level's factors are per region of: regional, N x N; corrected, one for the image.
-inline int rb_level_regions(const RenderSpec& o) { return o.rb_level == "regional" ? o.regions : 1; }
+inline int rb_level_regions(const RenderSpec& o) { return o.rb_level == "corrected" ? 1 : o.regions; }
+// --rb-level consistent (image/share_correction.h): the regional level, then PT's estimate of RB's
+// share corrects it block by block down to each pixel.
+inline bool rb_share_consistent(const RenderSpec& o) { return rb_level_corrected(o) && o.rb_level == "consistent"; }
 
 // --ratio auto (the default of --mode combined): a timed probe before the render picks c.
 inline bool ratio_is_auto(const RenderSpec& o) { return o.mode == "combined" && o.ratio < 0.0; }

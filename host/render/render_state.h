@@ -41,6 +41,9 @@ struct RenderView {
   std::optional<RegionalError> regional_error;  // each region's error (image/regional_error.h)
   double expected_worst_region_error = NAN;     // its expected largest relative error
   std::string out_prefix;  // --out, or PREFIX_0000, PREFIX_0001, ... for a walkthrough's frames
+  // --rb-level consistent: PT's unweighted image u and its estimate of RB's share d = u − w, in
+  // batches of one round (image/share_correction.h needs d's variance, the error estimate u's too).
+  std::optional<BatchMeansErrorEstimate> pt_raw_batches, pt_share_batches;
   FirstHitFeatures features;     // the albedo and normal layers (passes/path_tracer.h)
   FirstHitFeatures prefiltered;  // --denoise: the same denoised alone, as the beauty's filter reads them
 };
