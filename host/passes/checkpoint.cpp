@@ -129,7 +129,8 @@ std::optional<BatchMeansErrorEstimate::State> read_batch_means(Reader& r) {
 }
 
 // Format 04: a count, then each layer's statistics (PT's, RB's, and the check of RB's layer against
-// PT's estimate of its share: image/error_estimate.h); before, one optional estimate.
+// PT's estimate of its share: image/error_estimate.h; then, under --rb-level consistent, PT's u and d
+// in batches of a round: render/render_job.cpp); before, one optional estimate.
 void write_error_estimate(Writer& w, const std::vector<BatchMeansErrorEstimate::State>& layers) {
   w.value(std::uint8_t(layers.size()));
   for (const BatchMeansErrorEstimate::State& e : layers) write_batch_means(w, &e);
@@ -138,7 +139,7 @@ void write_error_estimate(Writer& w, const std::vector<BatchMeansErrorEstimate::
 std::vector<BatchMeansErrorEstimate::State> read_error_estimate(Reader& r, bool one_optional) {
   std::vector<BatchMeansErrorEstimate::State> layers;
   const std::uint8_t count = one_optional ? 1 : r.value<std::uint8_t>();
-  if (count > 3) throw std::runtime_error(r.path + ": the checkpoint's batch statistics are inconsistent");
+  if (count > 5) throw std::runtime_error(r.path + ": the checkpoint's batch statistics are inconsistent");
   for (std::uint8_t l = 0; l < count; ++l) {
     std::optional<BatchMeansErrorEstimate::State> e = read_batch_means(r);
     if (e) layers.push_back(std::move(*e));

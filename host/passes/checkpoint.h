@@ -21,8 +21,9 @@ struct Checkpoint {
   std::optional<Accumulator> pt, rb;
   std::optional<RayBundlePass::State> rb_state;
   // The error estimate's batch statistics (DESIGN.md §9), one per estimator's layer (PT's, RB's;
-  // image/error_estimate.h). Empty in checkpoints of before issue #16; one, of the layers' sum, in
-  // those of formats 02 and 03. A resumed render whose layers they do not fit starts its estimate afresh.
+  // image/error_estimate.h), the check's, and --rb-level consistent's two (PT's u and d). Empty in
+  // the oldest checkpoints; one, of the layers' sum, in those of formats 02 and 03. A resumed render
+  // whose layers they do not fit starts its estimate afresh.
   std::vector<BatchMeansErrorEstimate::State> error_estimate;
   // The RB level's batch statistics (--rb-level corrected, image/rb_level.h); absent before format 03.
   std::optional<RbLevel::State> rb_level;

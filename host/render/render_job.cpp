@@ -176,8 +176,12 @@ void start_error_estimate(RenderState& s) {
     std::optional<RoundSums> pt_rb_share;
     if (layers.size() == 2 && view.pt_accum.keeps_raw())
       pt_rb_share = RoundSums{&view.pt_accum.raw_sum, 1.0 / s.shape->pt_samples, &view.pt_accum.sum};
-    const std::vector<BatchMeansErrorEstimate::State>* saved =
+    const std::vector<BatchMeansErrorEstimate::State>* saved_states =
         !s.resumed ? nullptr : k ? &s.resumed->further_views[k - 1].error_estimate : &s.resumed->error_estimate;
+    // Without --rb-level consistent's two batch states, which follow (save_checkpoint).
+    std::vector<BatchMeansErrorEstimate::State> own;
+    if (saved_states) own.assign(saved_states->begin(), saved_states->end() - (view.pt_raw_batches && saved_states->size() >= 2 ? 2 : 0));
+    const std::vector<BatchMeansErrorEstimate::State>* saved = saved_states ? &own : nullptr;
     // A checkpoint of before the layers were estimated apart holds one estimate of their sum, one of
     // before the check none of it: the resumed render's estimate starts afresh where that does not fit.
     if (saved && saved->size() != layers.size() + (pt_rb_share ? 1 : 0)) saved = nullptr;
@@ -225,6 +229,18 @@ void start_rb_levels(RenderState& s) {
     if (!rb_share_consistent(s.spec)) continue;
     // PT's u and d per round, from the rounds this run renders (a resumed render's earlier rounds
     // count in the means, not in the variances' batches).
+    // A checkpoint keeps their states after the error estimate's (save_checkpoint); one of another
+    // level has none, and they start from the rounds this run renders.
+    const std::vector<BatchMeansErrorEstimate::State>* saved_batches =
+        !s.resumed ? nullptr : k ? &s.resumed->further_views[k - 1].error_estimate : &s.resumed->error_estimate;
+    if (saved_batches && saved_batches->size() >= 2 && saved_batches->back().width == s.scene.width &&
+        saved_batches->back().height == s.scene.height) {
+      view.pt_raw_batches.emplace(BatchMeansErrorEstimate::from_state((*saved_batches)[saved_batches->size() - 2],
+                                                                      s.scene.width, s.scene.height));
+      view.pt_share_batches.emplace(
+          BatchMeansErrorEstimate::from_state(saved_batches->back(), s.scene.width, s.scene.height));
+      continue;
+    }
     const RoundSums u = pt_raw_round_sums(s, view), d = pt_share_round_sums(s, view);
     view.pt_raw_batches.emplace(s.scene.width, s.scene.height, 1, 1, s.first_round, s.first_round ? &u : nullptr);
     view.pt_share_batches.emplace(s.scene.width, s.scene.height, 1, 1, s.first_round, s.first_round ? &d : nullptr);
@@ -242,6 +258,10 @@ void save_checkpoint(RenderState& s, std::uint64_t rounds, double seconds) {
     if (!s.pt.empty()) saved.pt = view.pt_accum;
     if (s.rb) saved.rb = view.rb_accum;
     saved.error_estimate = view.error_estimate->state();
+    if (view.pt_raw_batches) {  // --rb-level consistent's batches after the estimate's own (start_rb_levels)
+      saved.error_estimate.push_back(view.pt_raw_batches->state());
+      saved.error_estimate.push_back(view.pt_share_batches->state());
+    }
     saved.rb_bias_sums = view.error_estimate->rb_bias_sums();
     if (view.rb_level) saved.rb_level = view.rb_level->state();
     saved.regional_error = view.regional_error->state();
