@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Where a combined image's error comes from, from K renders with equal work and different seeds
-(DESIGN.md §7's metric, per pixel and channel: (I - R)^2 / (R^2 + 0.01)). Python standard library only.
+(docs/design.md §7's metric, per pixel and channel: (I - R)^2 / (R^2 + 0.01)). Python standard library only.
 
   bias_variance.py REFERENCE.exr IMAGE.exr...   (K >= 2 images with the pt and rb layers, or PT alone)
 

@@ -54,7 +54,7 @@ run "combined, product weights with \`--beta balance\`, ratio 1/4, no light samp
 for ratio in 1 1/4; do
   run "combined, paper weights, ratio $ratio" --mode combined --weights paper --ratio $ratio
 done
-# With light sampling (DESIGN.md §3), the default.
+# With light sampling (docs/design.md §3), the default.
 run "PT (\`--mode pt\`)" --mode pt
 for ratio in 4 1 1/4 1/16; do
   run "combined, product weights, ratio $ratio" --mode combined --weights product --ratio $ratio

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Issue #16: is the error estimate right? Renders each scene with --mode pt, rb and combined at a
 # short and a long budget (one seed) and prints the relMSE the render estimated of itself
-# ("estimated_rel_mse", DESIGN.md §9) beside the relMSE measured against a path-traced reference
+# ("estimated_rel_mse", docs/design.md §9) beside the relMSE measured against a path-traced reference
 # (cached, bench/lib.sh), the reference's own noise (its estimated relMSE, which every measured value
 # contains), the variance measured from a second render with another seed and the same work
 # (E[(I1 − I2)²] = 2 Var, so it holds no bias), and what is left, measured − reference noise −

@@ -2,10 +2,13 @@
 """An image's error against a reference, split into variance, bias and the reference's own noise, and
 judged by 8x8-pixel blocks. Runs in the peers' venv (numpy, OpenEXR: bench/peers/setup.sh).
 
-  error_split.py REFERENCE.exr --images A1.exr A2.exr [--pt P1.exr P2.exr] [--label NAME] [--header]
+  error_split.py REFERENCE.exr --images A1.exr A2.exr [--pt P1.exr P2.exr] [--layer L] [--label NAME]
+                 [--header]
 
 A1, A2: one method at two seeds (same options); P1, P2: `--mode pt` at two seeds, whose pair gives the
-reference's own noise (relMSE of PT less its variance: PT is unbiased). Per method, one Markdown row:
+reference's own noise (relMSE of PT less its variance: PT is unbiased); --layer: the images' layer
+(e.g. `raw`, a --denoise render's undenoised image; PT's pair too where it has it). Per method, one
+Markdown row:
 * relMSE of A1 and A2 (bundlepath's metric: mean over pixels and channels of (I-R)^2 / (R^2 + 0.01));
 * variance: half the relMSE between A1 and A2 (the reference in the denominator);
 * bias^2: the mean relMSE less the variance and the reference's own noise (0 without --pt);
@@ -27,8 +30,9 @@ LUM = np.array([0.2126, 0.7152, 0.0722])
 def read(path, layer="RGB"):
     with OpenEXR.File(path) as f:
         ch = f.channels()
-        if layer in ch:
-            return np.asarray(ch[layer].pixels, dtype=np.float64)[..., :3]
+        for name in (layer, "RGBA") if layer == "RGB" else (layer,):  # a peer's EXR: RGBA
+            if name in ch:
+                return np.asarray(ch[name].pixels, dtype=np.float64)[..., :3]
         return np.stack([np.asarray(ch[f"{layer}.{c}"].pixels, dtype=np.float64) for c in "RGB"], -1)
 
 
@@ -60,18 +64,24 @@ def main():
     p.add_argument("reference")
     p.add_argument("--images", nargs=2, required=True)
     p.add_argument("--pt", nargs=2)
+    p.add_argument("--layer", default="RGB")
     p.add_argument("--label", default="")
     p.add_argument("--header", action="store_true")
     a = p.parse_args()
     ref = read(a.reference)
-    imgs = [read(x) for x in a.images]
+    imgs = [read(x, a.layer) for x in a.images]
     for x in imgs:
         if x.shape != ref.shape:
             raise SystemExit(f"error_split.py: {x.shape[1]}x{x.shape[0]} image against a "
                              f"{ref.shape[1]}x{ref.shape[0]} reference")
     ref_noise, ref_var = 0.0, np.zeros_like(ref)
     if a.pt:
-        pts = [read(x) for x in a.pt]
+        pts = []
+        for x in a.pt:
+            try:
+                pts.append(read(x, a.layer))
+            except KeyError:
+                pts.append(read(x))
         pt_var = rel_mse(pts[0], pts[1], ref) / 2
         ref_noise = max(0.0, np.mean([rel_mse(x, ref, ref) for x in pts]) - pt_var)
         # the reference's per-pixel variance: PT's pair's spread scaled by the reference's share of it

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The eye estimate in blocks against every iteration's gather (--rb-eye-gather blocks|every,
-# DESIGN.md §8): for each scene and resolution, the same render (same seed and work) with each,
+# docs/design.md §8): for each scene and resolution, the same render (same seed and work) with each,
 # alternating, REPEATS times; the median render seconds of each, their ratio, the RB kernels' device
 # seconds of the eye estimate (rb_eye + rb_eye_patches + rb_eye_block) and the relMSE of the blocks
 # image against the every-iteration one (float rounding: ~1e-12). Writes OUT/eye-gather.md.

@@ -6,7 +6,7 @@
 
 SEEDn.exr: `bundlepath render ... --seed n --out SEEDn` (with `--layers all` for the pt_raw layer);
 SEEDn.json: its --stats. Two independent renders' errors are independent, so the mean over values of
-their product, each over (R^2 + 0.01) as the relMSE (DESIGN.md section 7), is the square of what
+their product, each over (R^2 + 0.01) as the relMSE (docs/design.md section 7), is the square of what
 they share: the bias. Two estimates of it:
   * through PT: (image - pt_raw) is RB's layer as it counts less PT's estimate of RB's share, whose
     expectation is RB's bias alone (needs --layers all);

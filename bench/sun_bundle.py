@@ -24,7 +24,7 @@ A sun bundle changes two things at once, measured apart here:
 Also shown, as what any sampling of the sun apart could reach: "split", the sum of the variances of
 two independent renders of the scene with its directional lights alone and with the others alone
 (each light sampled on its own, in PT too).
-Variance per pixel and channel as DESIGN.md §7: (a - b)^2 / 2 / (R^2 + 0.01) between seeds 1 and 2,
+Variance per pixel and channel as docs/design.md §7: (a - b)^2 / 2 / (R^2 + 0.01) between seeds 1 and 2,
 R the mean of the scene's two chosen renders; the pt and rb parts from the pt.* and rb.* layers.
 Efficiency: 1 / (variance x time), relative to chosen.
 """
@@ -62,7 +62,7 @@ def render(args, scene, prefix, seed, patch_size, eye_direct, rb_sun):
 
 
 def variance(pair, reference_pair, layer):
-    """DESIGN.md §7's relative variance of one render, from two seeds, against the reference pair's mean."""
+    """docs/design.md §7's relative variance of one render, from two seeds, against the reference pair's mean."""
     total, n = 0.0, 0
     for c in 'RGB':
         r1, r2 = reference_pair[0][c], reference_pair[1][c]

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Walkthroughs (issue #15, DESIGN.md §8): the cost per frame of F views rendered in one run (one
+# Walkthroughs (issue #15, docs/design.md §8): the cost per frame of F views rendered in one run (one
 # ray-bundle chain shared by all views, each view its own eye gather and PT samples) against F
 # separate renders of the same views, at equal iterations -- for --mode rb and --mode combined.
 # The views are F keys of a --camera-path: on the Cornell boxes (cornell-box, cornell-glossy) walking

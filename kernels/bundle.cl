@@ -1,4 +1,4 @@
-// Global ray-bundle iteration (DESIGN.md §4) with a software transillumination buffer. One iteration:
+// Global ray-bundle iteration (docs/design.md §4) with a software transillumination buffer. One iteration:
 //   rb_outgoing -> rb_emit -> scan -> rb_tile_scatter -> rb_tile_resolve -> rb_gather -> (rb_vertex -> rb_eye)
 // Patch radiance is kept as E_in = L_in cos(theta_in) ("irradiance over pi"), so an element seen
 // edge-on never divides by its cosine.
@@ -41,14 +41,14 @@ static float3 patch_normal(__global const BundleElement* elements, uint patch_el
 static float3 facing(float3 n, float3 omega) { return dot(n, omega) >= 0.0f ? omega : -omega; }
 
 // ln of the paper's P of the radiance that leaves a patch: eq. (10) for the reflected part, P = 1 for
-// the emitted part, mixed by their luminance (one number per patch cannot be exact, DESIGN.md §3).
+// the emitted part, mixed by their luminance (one number per patch cannot be exact, docs/design.md §3).
 static float paper_log_p_out(float3 emitted, float3 reflected, float log_p_reflected) {
   float le = emitted.x + emitted.y + emitted.z, lr = reflected.x + reflected.y + reflected.z;
   if (le + lr <= 0.0f) return log_p_reflected;
   return log_add_exp(log_or_zero(le), log_or_zero(lr) + log_p_reflected) - log(le + lr);
 }
 
-// The per-patch light sample of DESIGN.md §3: one shadow ray from a random point of the patch to a
+// The per-patch light sample of docs/design.md §3: one shadow ray from a random point of the patch to a
 // light chosen for the patch. `irradiance` is L cos / p_solid over the rate at which patches take this
 // sample (0 when the light is not reached); the techniques' weights are applied by the callers.
 typedef struct {
@@ -83,7 +83,7 @@ static PatchLightSample rb_light_sample(__global const BundleElement* e, float3 
   if (!(cos_x > 0.0f) || ls.radiance_over_pdf.x + ls.radiance_over_pdf.y + ls.radiance_over_pdf.z <= 0.0f) return out;
   float t_max = ls.is_delta ? ls.distance : ls.distance - 4.0f * ray_epsilon;
   if (t_max <= 0.0f) return out;
-  // through thin panes, attenuated (DESIGN.md §11), as PT's shadow rays
+  // through thin panes, attenuated (docs/design.md §11), as PT's shadow rays
   float3 through = shadow_transmittance(nodes, triangles, shading, materials, &light_set->textures, alpha_masks, x,
                                         ls.wi, t_max, ray_epsilon);
   out.irradiance = ls.radiance_over_pdf * through * (cos_x / it->light_rate);  // L cos / p_solid, over the rate
@@ -106,7 +106,7 @@ static float3 rb_light_reflected(const PatchLightSample* ls, const Bsdf* bsdf, f
 
 // 1. Outgoing radiance of every patch along the new direction: the random operator T* applied to the
 //    previous incoming radiance, L_out = Le + 2 pi f(w_prev -> w_out) cos(theta_prev) L_in, with the
-//    vertex's beta multiplied in on the weighted chain of --weights product (DESIGN.md §3). With
+//    vertex's beta multiplied in on the weighted chain of --weights product (docs/design.md §3). With
 //    light sampling, chain 0 leaves Le out (receivers take it through their direct chain, weighted
 //    per fragment) and adds the reflected direct light and the patch's light sample instead.
 __kernel void rb_outgoing(__global const BundleElement* elements, __global const uint* patch_element,
@@ -293,7 +293,7 @@ static void sides_along(__global const BundleElement* e, float3 omega, uint* min
 }
 
 // Light straight from an emitter, as a direct chain of a receiving patch takes it: the sender's Le
-// weighted as the RB bundle technique of the last segment (DESIGN.md §3). The light travels along
+// weighted as the RB bundle technique of the last segment (docs/design.md §3). The light travels along
 // `travel` over `distance` (the fragments' depth difference) from the sender element to the
 // receiver's side with normal n_receiver. For the direct chain the receiver will send it along
 // omega_next (PT's density of that pair); for the eye chain (eye_vertex) the eye sees the receiver,
@@ -357,13 +357,13 @@ static float4 rb_environment_received(__global const BundleElement* elements, __
   return (float4)(env.x * w, env.y * w, env.z * w, 0.0f);
 }
 
-// Whether an element is (partly) a thin pane, which passes bundles straight through (DESIGN.md §11).
+// Whether an element is (partly) a thin pane, which passes bundles straight through (docs/design.md §11).
 static int rb_is_pane(__global const BundleElement* elements, __global const Material* materials, uint element) {
   return BP_FEATURE_TRANSMISSION && (materials[elements[element].material].flags & BP_MATERIAL_THIN_TRANSMITTER);
 }
 
 // What the fragment at place a of a bin's depth order [first, last) receives in chain c when its
-// neighbour at a + step is a thin pane (DESIGN.md §11: a filter on the segment, not a vertex): the
+// neighbour at a + step is a thin pane (docs/design.md §11: a filter on the segment, not a vertex): the
 // light travels along `travel` (+omega from the fragments before a, step -1; -omega from those after,
 // step +1) to the receiving patch (its side with normal n_receiver). The pane's own outgoing radiance
 // (its opaque rest), plus through it, times its transmittance along omega, what arrives at the pane
@@ -615,7 +615,7 @@ __kernel void rb_eye_hits(__global const BvhNode* nodes, __global const BvhTrian
   float4 texel_base = (float4)(0.0f), texel_roughness = (float4)(0.0f), texel_emission = (float4)(0.0f);
   float4 texel_specular = (float4)(0.0f);
   const TextureSet textures = {texture_views, texels, material_textures, texcoords, uv_slots};
-  // through thin panes (DESIGN.md §11): the eye sees what is behind a pane, attenuated, or the pane's
+  // through thin panes (docs/design.md §11): the eye sees what is behind a pane, attenuated, or the pane's
   // opaque rest; never its mirror, which is PT's alone
   float3 filter = make_float3(1.0f, 1.0f, 1.0f);
   uint pane_event, rays = 0u;
@@ -635,7 +635,7 @@ __kernel void rb_eye_hits(__global const BvhNode* nodes, __global const BvhTrian
       patch_local_barycentrics(place.b1, place.b2, place.patch_subdiv, &out.l1, &out.l2);
       MaterialTextures mt;
       if (BP_FEATURE_TEXTURES && uv_slots > 0u && material_is_textured((mt = material_textures[s.material], &mt))) {
-        // the eye gather reflects with the texel at the hit (DESIGN.md §6), its weights with the patch's mean
+        // the eye gather reflects with the texel at the hit (docs/design.md §6), its weights with the patch's mean
         TexelMaterial tm = texel_material(&textures, &mt, hit.triangle, hit.b1, hit.b2);
         texel_base = (float4)(tm.base_color.x, tm.base_color.y, tm.base_color.z, tm.metallic);
         texel_roughness = (float4)(tm.roughness, tm.specular_textured ? 1.0f : 0.0f, 0.0f, 1.0f);
@@ -657,7 +657,7 @@ __kernel void rb_eye_hits(__global const BvhNode* nodes, __global const BvhTrian
 
 // What the eye vertex reflects of incoming irradiance E_in = L_in cos(theta_patch) arriving along wi,
 // per unit E_in and solid angle: f(wi, wo) cos(theta_shading) / cos(theta_patch), the BRDF and cosine
-// about the shading normal (DESIGN.md §6); with the flat normal, f (flat: about the patch normal).
+// about the shading normal (docs/design.md §6); with the flat normal, f (flat: about the patch normal).
 // A direction below the shading normal reflects nothing.
 static float3 eye_brdf(const Bsdf* bsdf, float3 n_patch, float3 n_shading, float3 wi, float3 wo, float3 flat_f) {
   float3 d = n_shading - n_patch;
@@ -715,7 +715,7 @@ static float4 eye_irradiance(const EyeHit* h, __global const float4* flat, __glo
 // Fresnel makes even its diffuse part depend on omega and wo), and everything else the estimate reads --
 // the interpolated E_in, the weights, the light samples' directions -- depends on the patch, its
 // corners and omega alone, so the block's sum of estimates is f times the sum of those per-patch
-// terms (DESIGN.md §8: the per-iteration gather is linear in the patch irradiance). Not with the
+// terms (docs/design.md §8: the per-iteration gather is linear in the patch irradiance). Not with the
 // paper's weights (their ln P at the eye is not linear in E_in).
 static int eye_in_blocks(uint eye_blocks, const Bsdf* bsdf, float3 n, float3 ns) {
   if (!eye_blocks) return 0;
@@ -801,7 +801,7 @@ __kernel void rb_eye(__global const EyeHit* hits, __global const BundleElement* 
   if (eye_in_blocks(eye_blocks, &bsdf, n, ns)) return;  // gathered in blocks: rb_eye_block
   float3 wo = make_float3(h.wo[0], h.wo[1], h.wo[2]);
   float3 wi = facing(n, bp_private3(it.omega));
-  BsdfValue v = bsdf_evaluate(&bsdf, n, wi, wo);  // about the patch normal: the weight inputs (DESIGN.md §3)
+  BsdfValue v = bsdf_evaluate(&bsdf, n, wi, wo);  // about the patch normal: the weight inputs (docs/design.md §3)
   float3 transfer = eye_brdf(&bsdf, n, ns, wi, wo, v.f) * BP_TWO_PI;
   const uint slots = eye_slots(&it);
   float4 e0 = eye_irradiance(&h, &e_in[h.patch * it.chains], patch_vertices, e_vertex, gouraud, slots, 0u);

@@ -1,4 +1,4 @@
-// Path tracer megakernel (DESIGN.md §5): one work-item per pixel, samples_per_launch samples each.
+// Path tracer megakernel (docs/design.md §5): one work-item per pixel, samples_per_launch samples each.
 // The loop calls stage functions: camera ray, intersect, surface, emission weight, sample, step.
 #include "shared/types.h"
 #include "shared/rng.h"
@@ -43,14 +43,14 @@ typedef struct {
 } PathRadiance;
 
 // The product of beta of the vertices before the one at `depth` (0: the eye vertex): the prefix of
-// the last-segment split of DESIGN.md §3. 0 where PT owns the last segment alone: direct light at
+// the last-segment split of docs/design.md §3. 0 where PT owns the last segment alone: direct light at
 // the eye vertex under --eye-direct pt, and every path when PT runs without RB.
 static float last_segment_prefix_beta(const PathTraceParams* params, const PathPdf* pdf, bp_u32 depth) {
   if (params->weight_mode != BP_WEIGHTS_PRODUCT || (depth == 0u && !params->eye_direct_shared)) return 0.0f;
   return pdf->beta_product;
 }
 
-// The four-technique weights of a last segment from the vertex at `depth` (DESIGN.md §3): at the eye
+// The four-technique weights of a last segment from the vertex at `depth` (docs/design.md §3): at the eye
 // vertex under --eye-direct shared, RB's share from the view-independent proxy density; elsewhere
 // the prefix product and PT's density about the patch normal on both sides (pdf_bsdf_patch, what RB
 // computes), PT's own share split by its true density (pdf_bsdf, about the shading normal). The raw
@@ -65,7 +65,7 @@ static LastSegmentWeights pt_last_segment_weights(const PathTraceParams* params,
 }
 
 // PT's density (uv) of wi given wo about the flat patch normal: the weight input RB can compute
-// (DESIGN.md §3); the same as the sampling density where the shading normal is the flat one.
+// (docs/design.md §3); the same as the sampling density where the shading normal is the flat one.
 static float pdf_uv_patch(const SurfaceHit* surface, const Bsdf* bsdf, float3 wi, float3 wo, float pdf_uv_shading) {
   if (!BP_FEATURE_SHADING_NORMALS) return pdf_uv_shading;
   float3 d = surface->shading_normal - surface->normal;
@@ -73,7 +73,7 @@ static float pdf_uv_patch(const SurfaceHit* surface, const Bsdf* bsdf, float3 wi
 }
 
 // Next-event estimation at a vertex: one light sample, one shadow ray, weighted as the PT light
-// technique of DESIGN.md §3 (the PT-alone balance heuristic for the raw layer).
+// technique of docs/design.md §3 (the PT-alone balance heuristic for the raw layer).
 static void add_light_sample(const SceneRefs* scene, const PathTraceParams* params, const SurfaceHit* surface,
                              const Bsdf* bsdf, float3 wo, float3 throughput, bp_u32 depth, float prefix_beta,
                              Rng* rng, PathRadiance* radiance, bp_u32* rays) {
@@ -89,7 +89,7 @@ static void add_light_sample(const SceneRefs* scene, const PathTraceParams* para
   float t_max = ls.is_delta ? ls.distance : ls.distance - 4.0f * params->ray_epsilon;
   *rays += 1u;
   if (t_max <= 0.0f) return;
-  // through thin panes, attenuated (DESIGN.md §11): the same weights as without them
+  // through thin panes, attenuated (docs/design.md §11): the same weights as without them
   float3 through = shadow_transmittance(scene->nodes, scene->triangles, scene->shading, scene->materials,
                                         &scene->lights.textures, scene->alpha_masks, x, ls.wi, t_max,
                                         params->ray_epsilon);
@@ -205,7 +205,7 @@ static PathRadiance trace_path(const SceneRefs* scene, const PathTraceParams* pa
       if (delta) dir = ds.wi;
     }
     if (delta) {
-      // A delta vertex (DESIGN.md §11): a pane's mirror, or a refractor's refraction or reflection;
+      // A delta vertex (docs/design.md §11): a pane's mirror, or a refractor's refraction or reflection;
       // PT's alone. beta 0 (w_RB = 0 from here on), no light sample, and the vertex after it sees
       // emitters by this direction alone: p_L 0 and any positive s p_b in the last-segment split.
       // Past BP_DELTA_RUN_BEFORE_ROULETTE delta vertices in a row (a ray trapped by total internal
@@ -230,7 +230,7 @@ static PathRadiance trace_path(const SceneRefs* scene, const PathTraceParams* pa
     Bsdf bsdf = pt_bsdf(scene, &surface, &hit);
     float3 wo = -dir;
 
-    // Emission picked up after this prefix, weighted with w_PT of the prefix (DESIGN.md §3); with
+    // Emission picked up after this prefix, weighted with w_PT of the prefix (docs/design.md §3); with
     // light sampling, as the PT BSDF technique of the last segment unless the eye sees it.
     float3 emitted = throughput * bsdf.emission;
     const int emits = emitted.x + emitted.y + emitted.z > 0.0f;
@@ -265,12 +265,12 @@ static PathRadiance trace_path(const SceneRefs* scene, const PathTraceParams* pa
     BsdfSample sample = bsdf_sample(&bsdf, surface.shading_normal, wo, u_lobe, u1, u2);
     if (sample.pdf_uv <= 0.0f) break;
     float cos_geometric = dot(surface.normal, sample.wi);
-    if (!(cos_geometric > 0.0f)) break;  // below the surface itself: the shading normal's trap (DESIGN.md §6)
+    if (!(cos_geometric > 0.0f)) break;  // below the surface itself: the shading normal's trap (docs/design.md §6)
     float cos_theta = dot(surface.shading_normal, sample.wi);
     // f cos / (s p_solid_angle), with p_solid_angle = pdf_uv / 2 pi  (7)
     throughput *= sample.f *
                   (cos_theta * BP_TWO_PI / (bsdf.continuation * sample.pdf_uv));
-    // Every weight input is patch-level (DESIGN.md §3): the density about the flat normal, as RB has it.
+    // Every weight input is patch-level (docs/design.md §3): the density about the flat normal, as RB has it.
     const float pdf_patch = pdf_uv_patch(&surface, &bsdf, sample.wi, wo, sample.pdf_uv);
     last_prefix_beta = prefix_beta;
     last_pdf_bsdf = bsdf.continuation * sample.pdf_uv;

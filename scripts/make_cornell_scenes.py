@@ -4,7 +4,7 @@ scenes/cornell-normal-map.gltf and scenes/cornell-glass.gltf (python3 stdlib onl
 
 Geometry: the published Cornell Box data (/work/shared/data/cornell-box.md), mm -> m, y up.
 Every quad is checked to face the way it must: walls into the box, block faces out of the
-blocks, the light down. Materials use extras.phong (DESIGN.md section 6); the light has kd = 0
+blocks, the light down. Materials use extras.phong (docs/design.md section 6); the light has kd = 0
 (a pure emitter, so RB and PT do not disagree about light reflected by the lamp) and
 Le = emissiveFactor (1, 12/17, 4/17) x KHR_materials_emissive_strength 17 = (17, 12, 4).
 pbrMetallicRoughness mirrors the Phong values so other viewers show similar colours.
@@ -87,7 +87,7 @@ GLOSSY_MATERIALS = {
 GLOSSY_KEYS = {"floor": "glossy white", "back": "glossy white", "white": "white", "block": "block", "short block": "block",
                "red": "red", "green": "green", "light": "light"}
 
-# The glossy box with glTF's metallic-roughness materials instead (GGX, DESIGN.md section 11): a glossy
+# The glossy box with glTF's metallic-roughness materials instead (GGX, docs/design.md section 11): a glossy
 # white dielectric floor and back wall (roughness 0.3), a rough gold block (0.2), a red plastic one
 # (0.5), a copper egg (0.35); the side walls Lambert (metallic 0, specularFactor 0).
 def pbr(base, metallic, roughness, specular=1.0):
@@ -108,7 +108,7 @@ GGX_KEYS = {"floor": "glossy white", "back": "glossy white", "white": "white", "
             "red": "red", "green": "green", "light": "light"}
 
 # The Lambert box with a solid glass egg (KHR_materials_transmission with KHR_materials_volume: it
-# refracts, DESIGN.md section 11): clear, ior 1.5, faintly green, 80 % of red left after 0.2 m.
+# refracts, docs/design.md section 11): clear, ior 1.5, faintly green, 80 % of red left after 0.2 m.
 GLASS_MATERIALS = dict(BOX_MATERIALS)
 GLASS_MATERIALS["glass"] = {"pbr": pbr((1.0, 1.0, 1.0), 0.0, 0.0),
                             "volume": {"ior": 1.5, "thickness": 0.1, "colour": (0.8, 0.95, 0.9), "distance": 0.2}}

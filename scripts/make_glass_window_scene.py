@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Writes scenes/glass-window.gltf (python3 stdlib only): a closed 4 m x 4 m x 2.6 m room lit only
 by a sun through a glazed window, to show and test thin glass (KHR_materials_transmission,
-thin-walled; DESIGN.md section 11).
+thin-walled; docs/design.md section 11).
 
 y up. The room spans x, z in [-2, 2], y in [0, 2.6]; every wall faces into the room. The -x wall
 has a 1.4 m x 1.1 m opening (z in [-0.7, 0.7], y in [0.9, 2.0]) filled by a clear pane

@@ -23,7 +23,7 @@ inline double estimate_reference_value(const ImageRGB& image, int x, int y, int 
   return count ? std::min(own, neighbours / count) : own;
 }
 
-// mean over values of variance / (R̂² + 0.01), R̂ = estimate_reference_value (DESIGN.md §7, §9).
+// mean over values of variance / (R̂² + 0.01), R̂ = estimate_reference_value (docs/design.md §7, §9).
 inline double estimated_rel_mse_of(const ImageRGB& image, const std::vector<double>& variance) {
   double sum = 0.0;
   for (int y = 0; y < image.height; ++y)

@@ -246,7 +246,7 @@ def read_material(mat, index, warnings):
         out["ks"] = [float(v) for v in phong.get("ks", [0.0, 0.0, 0.0])]
         out["shininess"] = float(phong.get("shininess", 1.0))
         peak = max(kd + ks for kd, ks in zip(out["kd"], out["ks"]))
-        if peak > 1.0:  # the loader's energy cap (DESIGN.md §6)
+        if peak > 1.0:  # the loader's energy cap (docs/design.md §6)
             out["kd"] = [v / peak for v in out["kd"]]
             out["ks"] = [v / peak for v in out["ks"]]
         out["model"] = "phong" if max(out["ks"]) > 0.0 else "lambert"

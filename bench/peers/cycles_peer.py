@@ -2,7 +2,7 @@
 bench/peers/convert.py, for the peer harness (issue 29). Runs in the peers' venv:
 
   python bench/peers/cycles_peer.py SCENE OUT_PREFIX --width W --height H [--time S | --spp N]
-                                    [--threads T] [--seed K] [--guiding]
+                                    [--threads T] [--seed K] [--guiding] [--denoise]
 
 Writes OUT_PREFIX.exr (linear RGBA float) and OUT_PREFIX.json: samples reached, the sampling time
 Cycles reports (its time limit counts sampling only and overruns by up to a third), the set-up time
@@ -11,7 +11,9 @@ Cycles reports (its time limit counts sampling only and overruns by up to a thir
 Settings, those a Blender user renders finals with: CPU, light tree on, no adaptive sampling, no
 denoiser, no clamping, no light threshold, no glossy filter, 1024 bounces of every kind (Russian
 roulette stays), a 1-pixel box filter, black world, view transform Standard; with --guiding, path
-guiding on surfaces (Cycles' defaults for its training). The scene is built from convert.load():
+guiding on surfaces (Cycles' defaults for its training); with --denoise, Blender's final-render
+denoiser as it ships on by default: OpenImageDenoise on colour + albedo + normal, prefilter Accurate,
+quality High (the time it takes is outside Cycles' sampling time and inside the wall time). The scene is built from convert.load():
 emission Le from the front face only unless the material is double-sided (Geometry.Backfacing masks
 the back; emission_sampling FRONT or FRONT_BACK), point and spot lights of 4 pi I watts with radius 0,
 a sun of the file's irradiance with angle 0, the file's camera (vertical FOV, sensor fit vertical).
@@ -76,6 +78,7 @@ def parse_args():
     p.add_argument("--threads", type=int, default=1)
     p.add_argument("--seed", type=int, default=1)
     p.add_argument("--guiding", action="store_true")
+    p.add_argument("--denoise", action="store_true")
     a = p.parse_args()
     if (a.time > 0) == (a.spp > 0):
         p.error("give exactly one of --time and --spp")
@@ -278,7 +281,8 @@ def build(scene, coll, tmp):
     return obj
 
 
-def render_settings(s, width, height, exr_path, spp=0, time_limit=0.0, seed=1, threads=1, guiding=False):
+def render_settings(s, width, height, exr_path, spp=0, time_limit=0.0, seed=1, threads=1, guiding=False,
+                    denoise=False):
     """The Cycles settings of the harness (the module docstring), on scene `s`; the output is a 32-bit
     float RGBA EXR at exr_path. bench/pbr_room.sh's Cycles render reuses them."""
     s.render.engine = "CYCLES"
@@ -289,7 +293,12 @@ def render_settings(s, width, height, exr_path, spp=0, time_limit=0.0, seed=1, t
     cy.use_adaptive_sampling = False
     cy.seed = seed
     cy.use_animated_seed = False
-    cy.use_denoising = False
+    cy.use_denoising = denoise
+    if denoise:
+        cy.denoiser = "OPENIMAGEDENOISE"
+        cy.denoising_input_passes = "RGB_ALBEDO_NORMAL"
+        cy.denoising_prefilter = "ACCURATE"
+        cy.denoising_quality = "HIGH"
     for k in ("max_bounces", "diffuse_bounces", "glossy_bounces", "transmission_bounces", "volume_bounces",
               "transparent_max_bounces"):
         setattr(cy, k, 1024)
@@ -357,7 +366,7 @@ def main():
     world.use_nodes = True
     world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.0
     s.world = world
-    render_settings(s, a.width, a.height, a.out + ".exr", a.spp, a.time, a.seed, a.threads, a.guiding)
+    render_settings(s, a.width, a.height, a.out + ".exr", a.spp, a.time, a.seed, a.threads, a.guiding, a.denoise)
     stats = []
     bpy.app.handlers.render_stats.append(lambda text, *_: stats.append(text))
     t1 = time.perf_counter()

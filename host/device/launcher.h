@@ -18,7 +18,7 @@ class Launcher {
   explicit Launcher(const DeviceContext& device) : device_(device) {}
 
   // 1-D launch; global is rounded up to a multiple of local (always explicit: PoCL picks
-  // work-groups of 1 for odd sizes otherwise, DESIGN.md §7). Kernels check their own bounds.
+  // work-groups of 1 for odd sizes otherwise, docs/design.md §7). Kernels check their own bounds.
   void launch(const std::string& name, const cl::Kernel& kernel, std::size_t global, std::size_t local);
 
   // Waits for every launch and adds their profiled times to totals().

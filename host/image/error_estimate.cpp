@@ -44,7 +44,7 @@ void BatchMeansErrorEstimate::add(std::uint64_t rounds, const RoundSums& sums) {
     for (std::size_t i = 0; i < level.open_sums.size(); ++i) {
       const double now = sums.at(i);
       const double batch_sum = now - level.open_sums[i];  // X_k: n_k times the batch mean m_k
-      level.sum_sq_over_n[i] += batch_sum * batch_sum * inv_n;  // n_k m_k² (DESIGN.md §9)
+      level.sum_sq_over_n[i] += batch_sum * batch_sum * inv_n;  // n_k m_k² (docs/design.md §9)
       level.open_sums[i] = now;
     }
     ++level.batches;
@@ -54,7 +54,7 @@ void BatchMeansErrorEstimate::add(std::uint64_t rounds, const RoundSums& sums) {
 }
 
 namespace {
-// The variance of the image's mean at value i (DESIGN.md §9), from a level's closed batches.
+// The variance of the image's mean at value i (docs/design.md §9), from a level's closed batches.
 struct LevelVariance {
   const BatchMeansErrorEstimate::Level& level;
   const std::vector<double>& start_sums;
@@ -105,7 +105,7 @@ double rel_mse_of(const Variance& var, int width, int height, PixelValue image) 
   double sum = 0.0;
   for (std::size_t i = 0; i < n; ++i) {
     const double r = reference_value(image, width, height, i);
-    sum += var.at(i) / (r * r + 0.01);  // DESIGN.md §7's relMSE, E[(I − R)²] = Var, R ≈ reference_value (§9)
+    sum += var.at(i) / (r * r + 0.01);  // docs/design.md §7's relMSE, E[(I − R)²] = Var, R ≈ reference_value (§9)
   }
   return sum / double(n);
 }

@@ -1,4 +1,4 @@
-// The image's error without a reference (DESIGN.md §9): batch means. The render's rounds are grouped
+// The image's error without a reference (docs/design.md §9): batch means. The render's rounds are grouped
 // into batches of at least `batch_rounds` rounds (closed at the render loop's batch ends); each
 // batch's mean image is an independent estimate of the pixel when the batches outlast the estimator's
 // correlation (PT: one round; RB: a Markov chain, kErrorBatchRbIterations), so their spread gives the
@@ -78,7 +78,7 @@ class BatchMeansErrorEstimate {
   // variance s² = Σ n_k (m_k − m)² / (K − 1) (n_k rounds in batch k, unbiased for unequal batches),
   // over the rounds, s² / N. Empty with fewer than two batches.
   std::vector<double> variance_of_mean(int level = 0) const;
-  // DESIGN.md §7's relMSE with that variance in place of (I − R)² and, in place of R, the smaller of
+  // docs/design.md §7's relMSE with that variance in place of (I − R)² and, in place of R, the smaller of
   // the pixel and the mean of its 8 neighbours in the image (error_estimate.cpp says why not the
   // pixel alone): mean(Var / (R̂² + 0.01)). NaN with fewer than two batches.
   double estimated_rel_mse(const ImageRGB& image, int level = 0) const;
@@ -109,7 +109,7 @@ class BatchMeansErrorEstimate {
   State state_;
 };
 
-// The image's error from the independent estimators whose layers sum to it (DESIGN.md §9): the
+// The image's error from the independent estimators whose layers sum to it (docs/design.md §9): the
 // combination's PT and RB layers draw their own random numbers and weigh with patch-level inputs
 // alone, so the variance of the image is the sum of the layers' variances, each from batches of its
 // own length -- PT's of one round (its rounds are independent), RB's of kErrorBatchRbIterations (a

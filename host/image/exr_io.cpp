@@ -1,4 +1,4 @@
-// float32 OpenEXR with named RGB layers (DESIGN.md §7): "" is R,G,B; layer L is L.R, L.G, L.B.
+// float32 OpenEXR with named RGB layers (docs/design.md §7): "" is R,G,B; layer L is L.R, L.G, L.B.
 #include "image/atomic_file.h"
 #include "image/image.h"
 

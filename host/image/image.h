@@ -1,4 +1,4 @@
-// Images on the host: linear RGB float planes, EXR/PNG output, error metrics (DESIGN.md §7).
+// Images on the host: linear RGB float planes, EXR/PNG output, error metrics (docs/design.md §7).
 #pragma once
 #include <string>
 #include <vector>

@@ -1,4 +1,4 @@
-// Error metrics of DESIGN.md §7, accumulated in double.
+// Error metrics of docs/design.md §7, accumulated in double.
 #include "image/image.h"
 
 #include <cmath>

@@ -15,7 +15,7 @@
 // 2 % noise), and it takes RB's level discretisation with it. Measured: README, "The RB level from
 // both estimators".
 //
-// --rb-level regional (DESIGN.md §9, "Regional error") does the same per region of a grid
+// --rb-level regional (docs/design.md §9, "Regional error") does the same per region of a grid
 // (image/regions.h): RB's chain moves the light of whole rooms together, so its error is regional
 // as well as global, and PT's estimate of RB's share in a region of thousands of pixels is still
 // good to a percent or so. Each region gets its own factor s_r, its weights those of the regional

@@ -1,4 +1,4 @@
-// The image's regional error without a reference (DESIGN.md §9, "Regional error"): per region of a
+// The image's regional error without a reference (docs/design.md §9, "Regional error"): per region of a
 // grid (image/regions.h), the standard error of the region's mean luminance in the image as written.
 //
 // A pixel's standard error is not enough: RB's chain moves the light of whole rooms together, so

@@ -1,4 +1,4 @@
-// An image cut into a grid of regions (DESIGN.md §9, "Regional error"): columns x rows blocks, the
+// An image cut into a grid of regions (docs/design.md §9, "Regional error"): columns x rows blocks, the
 // pixel (x, y) in block (x·columns / width, y·rows / height). The regional error estimate and the
 // regional RB level (image/rb_level.h) both sum layers over these blocks; bench/regional_error.sh
 // and `bundlepath compare --blocks` cut images the same way.

@@ -1,5 +1,5 @@
 #pragma once
-// The global directions of the ray-bundle iterations, as points of the unit square (DESIGN.md §2:
+// The global directions of the ray-bundle iterations, as points of the unit square (docs/design.md §2:
 // omega = (sqrt(1 - z^2) cos phi, sqrt(1 - z^2) sin phi, z), z = 1 - 2 u1, phi = 2 pi u2, uniform on
 // the sphere).
 //

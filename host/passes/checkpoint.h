@@ -20,7 +20,7 @@ struct Checkpoint {
   double render_seconds = 0.0;   // rendering time spent so far, over all runs
   std::optional<Accumulator> pt, rb;
   std::optional<RayBundlePass::State> rb_state;
-  // The error estimate's batch statistics (DESIGN.md §9), one per estimator's layer (PT's, RB's;
+  // The error estimate's batch statistics (docs/design.md §9), one per estimator's layer (PT's, RB's;
   // image/error_estimate.h), the check's, and --rb-level consistent's two (PT's u and d). Empty in
   // the oldest checkpoints; one, of the layers' sum, in those of formats 02 and 03. A resumed render
   // whose layers they do not fit starts its estimate afresh.
@@ -32,7 +32,7 @@ struct Checkpoint {
   // The check of RB's layer against PT's estimate of its share (ImageErrorEstimate::rb_bias_check);
   // zero before format 06.
   ImageErrorEstimate::RbBiasSums rb_bias_sums;
-  // A walkthrough's views after the first (DESIGN.md §8; the first is pt, rb, error_estimate above):
+  // A walkthrough's views after the first (docs/design.md §8; the first is pt, rb, error_estimate above):
   // each one's accumulators and error estimate. The ray-bundle state is the views' one chain.
   struct View {
     std::optional<Accumulator> pt, rb;

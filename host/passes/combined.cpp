@@ -29,7 +29,7 @@ CombinedWeights combined_weights(std::uint32_t mode, const RoundShape& shape) {
 // A round of N1 PT samples and N2 RB iterations takes N1 t_PT + N2 t_RB; PT's share of it is
 //   f = N1 t_PT / (N1 t_PT + N2 t_RB)   <=>   c = N1 / N2 = f / (1 - f) · t_RB / t_PT.
 // A fixed f rather than a fixed c follows the cost that moves with the scene and the resolution: PT's
-// cost per sample grows with the pixels, an RB iteration's mostly with the patches (DESIGN.md §3).
+// cost per sample grows with the pixels, an RB iteration's mostly with the patches (docs/design.md §3).
 // c is snapped to a power of 2 (log-nearest): timing noise of a few percent rarely changes the
 // choice, and an integer or its inverse is what round_shape makes a round of. It is clamped to
 // [1/1024, 64]: past that a round (the unit a --time budget stops at) grows long for a pass that

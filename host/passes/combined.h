@@ -1,4 +1,4 @@
-// The weighted multipass combination (DESIGN.md §1): rounds of PT samples and RB iterations at a fixed
+// The weighted multipass combination (docs/design.md §1): rounds of PT samples and RB iterations at a fixed
 // ratio c = N1 / N2, so the weights stay right whenever the render stops at a round's end. The
 // combined image is pt + rb of the two weighted accumulators (eq. 3).
 #pragma once
@@ -34,7 +34,7 @@ struct CombinedWeights {
 };
 CombinedWeights combined_weights(std::uint32_t mode, const RoundShape& shape);
 
-// --ratio auto (DESIGN.md §3, "The ratio c"): the share of the render time PT gets. It depends on who
+// --ratio auto (docs/design.md §3, "The ratio c"): the share of the render time PT gets. It depends on who
 // estimates the eye vertex's direct light. Where it is PT's alone (--eye-direct pt, chosen by auto at
 // many PT samples per pixel) PT's variance holds a part RB cannot take, and the split that minimises
 // A / f + B / (1 - f) (A, B: the PT and RB parts' variance at equal time) is f = √A / (√A + √B):
@@ -115,7 +115,7 @@ struct ProbeImageSize {
 ProbeImageSize probe_image_size(int width, int height);
 
 // What the probe measured and chose.
-// --eye-direct auto (DESIGN.md §3, "Sharing the eye vertex's direct light with RB"): the eye vertex's
+// --eye-direct auto (docs/design.md §3, "Sharing the eye vertex's direct light with RB"): the eye vertex's
 // direct light is shared with RB when the render will give each pixel fewer than this many PT
 // samples, else it is PT's alone. RB's patch-level direct light is smooth but blurred (a
 // discretisation error that no number of iterations removes); PT's per-pixel light samples are

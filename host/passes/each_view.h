@@ -1,4 +1,4 @@
-// A walkthrough's path tracing (DESIGN.md §8): every view has a pass of its own, and a round is the
+// A walkthrough's path tracing (docs/design.md §8): every view has a pass of its own, and a round is the
 // same samples of every view. PT shares no work between views; only ray bundles do (ray_bundles.h).
 #pragma once
 #include "passes/pass.h"

@@ -18,7 +18,7 @@ struct PathTracerSettings {
   std::uint32_t beta_heuristic = BP_BETA_CLAMPED;  // product weights' per-vertex beta (BP_BETA_*)
   float rb_light_rate = 1.0f;                 // the ray bundles' light-sample rate, for the weights
   bool rb_sun_own = false;                    // RB's own samples of each sun (--rb-sun own), for the weights
-  bool light_sampling = true;                 // next-event estimation (DESIGN.md §3), where the scene has lights
+  bool light_sampling = true;                 // next-event estimation (docs/design.md §3), where the scene has lights
   bool eye_direct_shared = false;             // combined: the eye vertex's direct light split with RB
   std::string kernel_options;                 // feature switches (device/kernel_features.h); empty: generic
 };

@@ -233,7 +233,7 @@ BundleIteration RayBundlePass::iteration_params(std::uint64_t iteration) const {
   float rotation = 0, ou = 0, ov = 0;
   float3 omega = direction(iteration, &rotation, &ou, &ov);
   float3 prev = iteration > 0 ? direction(iteration - 1, nullptr, nullptr, nullptr) : omega;
-  float3 next = direction(iteration + 1, nullptr, nullptr, nullptr);  // drawn one ahead (DESIGN.md §3)
+  float3 next = direction(iteration + 1, nullptr, nullptr, nullptr);  // drawn one ahead (docs/design.md §3)
   Frame f = frame_from_normal(omega);
   float3 u = f.t * std::cos(rotation) + f.b * std::sin(rotation);
   float3 v = cross(omega, u);

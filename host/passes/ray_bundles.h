@@ -1,4 +1,4 @@
-// Driver of global ray-bundle iteration (kernels/bundle.cl, DESIGN.md §4): one random direction per
+// Driver of global ray-bundle iteration (kernels/bundle.cl, docs/design.md §4): one random direction per
 // iteration, radiance of every patch moved one bounce along it through the software
 // transillumination buffer, and the eye estimate of each iteration added to the image.
 #pragma once
@@ -33,7 +33,7 @@ struct RayBundleSettings {
   std::uint32_t jitter_refresh = 16;  // iterations between new jittered primary hits per pixel
   // The eye estimate of Lambert eye vertices (flat normal; not the paper's weights) gathered once per
   // block of iterations -- the iterations between new eye hits or flushes -- from per-patch sums
-  // (DESIGN.md §8; kernels/bundle.cl, eye_in_blocks): the same sums as every iteration's gather, in
+  // (docs/design.md §8; kernels/bundle.cl, eye_in_blocks): the same sums as every iteration's gather, in
   // another order, for a fraction of its cost. false: every pixel every iteration (tests compare).
   bool eye_blocks = true;
   bool glossy = true;  // some f depends on the directions: a Phong lobe or glTF's metallic-roughness BRDF
@@ -46,7 +46,7 @@ struct RayBundleSettings {
   bool sun_own = false;               // --rb-sun own: that patch also samples each directional light
   bool keep_raw = false;              // also the unweighted image (rb_raw)
   bool light_sampling = false;        // per-patch light samples and per-fragment weighted direct light
-                                      // (DESIGN.md §3); product weights only, where the scene has lights
+                                      // (docs/design.md §3); product weights only, where the scene has lights
   bool eye_direct_shared = false;     // with light sampling: the eye vertex's direct light split with PT
                                       // (--eye-direct shared; a chain and a light-sample buffer more)
   std::string kernel_options;         // feature switches (device/kernel_features.h); empty: generic
@@ -60,7 +60,7 @@ struct RayBundleSettings {
 inline constexpr double kDefaultBinsPerElement = 4.0;
 std::uint32_t default_bins(const BundleSize& size, double bins_per_element = kDefaultBinsPerElement);
 
-// The rate at which a patch traces its light sample in an iteration (light sampling, DESIGN.md §3):
+// The rate at which a patch traces its light sample in an iteration (light sampling, docs/design.md §3):
 // about as many shadow rays per iteration as the image has pixels, and every patch on scenes with
 // fewer patches than pixels. A shadow ray per patch made an iteration on a 122 000-patch scene four
 // to five times dearer than without light sampling.
@@ -95,7 +95,7 @@ class RayBundlePass : public ProgressivePass {
   // Adds its eye estimates into `accum`.
   RayBundlePass(const DeviceContext& device, const DeviceScene& scene, const BundleGeometry& geometry,
                 const CameraParams& camera, const RayBundleSettings& settings, Accumulator& accum);
-  // Several views of one chain (walkthroughs, DESIGN.md §8): the patch state is view-independent, so
+  // Several views of one chain (walkthroughs, docs/design.md §8): the patch state is view-independent, so
   // each iteration runs once and each view adds its own eye gather (its own eye hits and sums). All
   // views have the same image size. View k's image is the one-view pass's with view k's camera.
   RayBundlePass(const DeviceContext& device, const DeviceScene& scene, const BundleGeometry& geometry,

@@ -1,4 +1,4 @@
-// Patches that follow the light (DESIGN.md §12): a patch triangle across which the direct light's
+// Patches that follow the light (docs/design.md §12): a patch triangle across which the direct light's
 // visibility changes -- a shadow edge, a contact shadow, the sun's patch through a window -- is
 // split further, so RB's patch-level light can follow what the path tracer sees per pixel. Done once
 // on the host before the render, from the scene alone: the layout is a pure function of the scene

@@ -1,4 +1,4 @@
-// A render on several devices (DESIGN.md §8): each batch of rounds is shared out to the devices'
+// A render on several devices (docs/design.md §8): each batch of rounds is shared out to the devices'
 // passes, which run at the same time, each on a host thread of its own and into an accumulator of
 // its own; once every device has finished the batch, their sums are added to the render's
 // accumulators. RB runs on one device (its iterations are one chain); PT is split over its devices

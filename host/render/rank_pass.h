@@ -1,4 +1,4 @@
-// A render on several ranks (DESIGN.md §8). Every rank runs the same render loop over the same
+// A render on several ranks (docs/design.md §8). Every rank runs the same render loop over the same
 // deterministic batches of rounds; rank r renders the r-th of N equal slices of each batch
 // (contiguous rounds, so PT's launches stay as long as one process's), into accumulators of its
 // own, and after every batch their sums are added, in double, into root's render accumulators --

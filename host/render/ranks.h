@@ -1,4 +1,4 @@
-// The processes of one render (DESIGN.md §8): under mpirun every rank renders its share of the same
+// The processes of one render (docs/design.md §8): under mpirun every rank renders its share of the same
 // rounds and rank 0 alone writes the files. The only MPI the code base calls is behind this
 // interface (ranks.cpp); a build without MPI (no BUNDLEPATH_HAS_MPI) is always one rank.
 #pragma once

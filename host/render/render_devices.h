@@ -1,4 +1,4 @@
-// The devices of a render (DESIGN.md §8): which ones --device names, each opened with a copy of the
+// The devices of a render (docs/design.md §8): which ones --device names, each opened with a copy of the
 // scene, and which pass each one runs.
 #pragma once
 #include "device/device_context.h"

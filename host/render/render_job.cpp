@@ -157,7 +157,7 @@ static std::uint64_t rb_error_batch_of(const RenderState& s) {
                                    s.shape->ratio());
 }
 
-// The error estimate (DESIGN.md §9), one per view: each estimator's layer from batches of its own --
+// The error estimate (docs/design.md §9), one per view: each estimator's layer from batches of its own --
 // PT's of one round, RB's of rb_error_batch_iterations in rounds.
 void start_error_estimate(RenderState& s) {
   const std::uint64_t rb_batch_iterations = rb_error_batch_of(s);

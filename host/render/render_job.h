@@ -1,4 +1,4 @@
-// One render as an object (DESIGN.md §8, §10): built from a RenderSpec -- scene, devices, passes,
+// One render as an object (docs/design.md §8, §10): built from a RenderSpec -- scene, devices, passes,
 // budget, outputs -- and run with an observer that hears its notes and progress and can stop it.
 // The CLI, MPI ranks and walkthrough views drive renders through this; none of them wires passes.
 #pragma once

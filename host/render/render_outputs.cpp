@@ -102,10 +102,10 @@ RenderFrame write_images(const RenderState& s, const RenderView& view, const Ren
   result.png_path = view.out_prefix + ".png";
   std::vector<ImageLayer> exr_layers;
   for (const auto& [name, img] : layers.images) exr_layers.push_back({name, &img});
-  // Each pixel's standard error of the combined image (DESIGN.md §9), beside the layers.
+  // Each pixel's standard error of the combined image (docs/design.md §9), beside the layers.
   const ImageRGB standard_error = view.error_estimate->standard_error();
   exr_layers.push_back({"stderr", &standard_error});
-  // Each region's relative standard error of its mean luminance (DESIGN.md §9, "Regional error").
+  // Each region's relative standard error of its mean luminance (docs/design.md §9, "Regional error").
   const ImageRGB region_error = region_error_image(*view.regional_error);
   exr_layers.push_back({"region_error", &region_error});
   // What a denoiser reads (docs/design.md §13), for OpenImageDenoise here or a compositor elsewhere.

@@ -1,4 +1,4 @@
-// A render's outputs: its layers (DESIGN.md §7), the EXR/PNG files and contact sheet, and the
+// A render's outputs: its layers (docs/design.md §7), the EXR/PNG files and contact sheet, and the
 // layers' errors against --reference.
 #pragma once
 #include "image/image.h"

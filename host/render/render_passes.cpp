@@ -82,7 +82,7 @@ static Accumulator& pass_accumulator(RenderState& s, Accumulator& rank_accum) {
   return s.lane_accums.emplace_back(rank_accum.width, rank_accum.height, rank_accum.keeps_raw());
 }
 
-// One chain for every view (DESIGN.md §8): each view adds its own eye gather per iteration. On several
+// One chain for every view (docs/design.md §8): each view adds its own eye gather per iteration. On several
 // devices or ranks (one view) the pass adds into s.rb_pass_accum.
 static void build_rb_pass(RenderState& s) {
   std::vector<RayBundleView> views;

@@ -69,13 +69,13 @@ struct RenderSpec {
   std::array<float, 3> environment{0.0f, 0.0f, 0.0f};  // --environment R,G,B: uniform radiance, W sr^-1 m^-2
   std::string environment_path;  // --environment FILE.exr: an equirectangular radiance map (wins over R,G,B)
   std::uint32_t max_depth = 65536;
-  // The views (walkthroughs, DESIGN.md §8): --camera, --cameras all, --camera-path, --camera-animation,
+  // The views (walkthroughs, docs/design.md §8): --camera, --cameras all, --camera-path, --camera-animation,
   // --fps. A walkthrough writes PREFIX_0000.exr, PREFIX_0000.png, ... (render_outputs.h).
   ViewRequest views;
   std::string video_path;  // --video FILE.mp4: a walkthrough's PNGs encoded by ffmpeg
 };
 
-// Whether light sampling (DESIGN.md §3) is part of this render: asked for, and a mode that has it
+// Whether light sampling (docs/design.md §3) is part of this render: asked for, and a mode that has it
 // (--mode pt; --mode combined with product weights). RB alone, the paper's weights and the plain
 // sum keep the paper's two estimators.
 bool light_sampling_applies(const RenderSpec& o);

@@ -29,7 +29,7 @@
 
 namespace bp {
 
-// One view of the render: a plain render has one, a walkthrough one per frame (DESIGN.md §8). Its
+// One view of the render: a plain render has one, a walkthrough one per frame (docs/design.md §8). Its
 // accumulators are what checkpoints, its error estimate and its image files read.
 struct RenderView {
   SceneCamera scene_camera;

@@ -194,7 +194,7 @@ void add_regional_error_stats(const RenderState& s, const RenderResult& r, nlohm
 
 nlohmann::json vector_json(const glm::vec3& v) { return {v.x, v.y, v.z}; }
 
-// A walkthrough's frames: each one's files, camera and estimated relMSE (DESIGN.md §8).
+// A walkthrough's frames: each one's files, camera and estimated relMSE (docs/design.md §8).
 void add_frame_stats(const RenderState& s, const RenderResult& r, nlohmann::json& stats) {
   nlohmann::json frames = nlohmann::json::array();
   for (std::size_t k = 0; k < r.frames.size(); ++k) {

@@ -1,4 +1,4 @@
-// The geometry the ray-bundle pass needs (DESIGN.md §4): every sub-triangle of the patch grid as an
+// The geometry the ray-bundle pass needs (docs/design.md §4): every sub-triangle of the patch grid as an
 // element with its corners, normal, area and the patches of its two sides.
 #pragma once
 #include "kernels/shared/bundle_types.h"
@@ -16,7 +16,7 @@ struct BundleGeometry {
   std::vector<BundleElement> elements;       // triangle t's elements start at first_element[t]
   std::vector<std::uint32_t> first_element;  // per triangle
   std::vector<std::uint32_t> patch_element;  // per patch: its element, | kBackSidePatch for a back side
-  // Gouraud vertices (DESIGN.md §4): patch corners welded where patches of one material and one
+  // Gouraud vertices (docs/design.md §4): patch corners welded where patches of one material and one
   // facing meet at the same point; a vertex holds the area-weighted mean of its patches' E_in.
   std::vector<std::uint32_t> patch_vertices;      // 3 per patch, in the element's corner order
   std::vector<std::uint32_t> vertex_patch_start;  // CSR: patches of vertex v are

@@ -1,4 +1,4 @@
-// --camera-path FILE.json: a walkthrough's views given as keys (DESIGN.md §8).
+// --camera-path FILE.json: a walkthrough's views given as keys (docs/design.md §8).
 #pragma once
 #include "scene/scene_cameras.h"
 

@@ -1,4 +1,4 @@
-// The views of a render (walkthroughs, DESIGN.md §8): one camera node, every camera node, a camera
+// The views of a render (walkthroughs, docs/design.md §8): one camera node, every camera node, a camera
 // path file, or a camera node's animation sampled at a frame rate.
 #pragma once
 #include "scene/scene.h"

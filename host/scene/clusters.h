@@ -1,4 +1,4 @@
-// Patch clusters (DESIGN.md §12): neighbouring triangles of one plain material that lie in one plane
+// Patch clusters (docs/design.md §12): neighbouring triangles of one plain material that lie in one plane
 // and whose union is a convex polygon are merged into that polygon, so the ray-bundle pass sees the
 // surface, not its tessellation. The polygon is written as a fan of triangles that own the cluster's
 // patches (patches.h); the scene's triangles stay what the path tracer and the BVH see.

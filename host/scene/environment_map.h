@@ -1,4 +1,4 @@
-// The environment light's map on the host (--environment, DESIGN.md §6): an equirectangular RGB
+// The environment light's map on the host (--environment, docs/design.md §6): an equirectangular RGB
 // image read from an EXR file, or the 1x1 map of a uniform radiance, and its packing with the
 // sampling cdfs for the kernels (kernels/shared/environment_map.h owns the directions and the pdf).
 #pragma once

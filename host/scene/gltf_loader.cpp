@@ -598,7 +598,7 @@ class Loader {
     t.base_color_factor[3] = pbr.baseColorFactor.size() == 4 ? float(pbr.baseColorFactor[3]) : 1.0f;
     t.metallic_factor = out.metallic;
     t.roughness_factor = out.roughness;
-    // alphaMode MASK (DESIGN.md §6): where alpha (factor x texel) is below the cutoff there is no surface
+    // alphaMode MASK (docs/design.md §6): where alpha (factor x texel) is below the cutoff there is no surface
     bool cut_away = false;
     if (m.alphaMode == "MASK") {
       const double cutoff = m.alphaCutoff;
@@ -633,7 +633,7 @@ class Loader {
     return info;
   }
 
-  // normalTexture (DESIGN.md §6): a linear RGB view like the others, and its scale.
+  // normalTexture (docs/design.md §6): a linear RGB view like the others, and its scale.
   void read_normal_texture(const tinygltf::NormalTextureInfo& normal, const std::string& obj, MaterialTextures& t,
                            std::vector<int>& uv_sets) {
     tinygltf::TextureInfo info;
@@ -656,7 +656,7 @@ class Loader {
     return float(v);
   }
 
-  // glTF's metallic-roughness material as its specification's Appendix B writes it (DESIGN.md §11),
+  // glTF's metallic-roughness material as its specification's Appendix B writes it (docs/design.md §11),
   // with KHR_materials_ior and KHR_materials_specular (kernels/shared/metallic_roughness.h). Where it
   // is exactly Lambert (metallic 0 and specular 0: no Fresnel layer at all) it stays the Lambert
   // material kd = baseColor, which RB gathers in blocks.
@@ -755,7 +755,7 @@ class Loader {
           scene_.warnings.push_back(obj + ": extras.phong wins; its textures are ignored");
       }
       const float max_albedo = bp_max(out.kd + out.ks);
-      if (max_albedo > 1.0f) {  // DESIGN.md §6: max(kd + ks) <= 1 (Modified Phong's; glTF's model keeps energy)
+      if (max_albedo > 1.0f) {  // docs/design.md §6: max(kd + ks) <= 1 (Modified Phong's; glTF's model keeps energy)
         out.kd /= max_albedo;
         out.ks /= max_albedo;
         std::ostringstream w;
@@ -776,7 +776,7 @@ class Loader {
     return v->GetNumberAsDouble();
   }
 
-  // KHR_materials_transmission with KHR_materials_ior, thin-walled (DESIGN.md §11): the share
+  // KHR_materials_transmission with KHR_materials_ior, thin-walled (docs/design.md §11): the share
   // T (1 - metallic) of the surface becomes a pane (kernels/shared/thin_glass.h) and the rest of it
   // the opaque BSDF, scaled by 1 - that share. What the pane cannot be -- a volume, a textured T or colour, a
   // rough pane, an emitting one -- is said per material.
@@ -939,7 +939,7 @@ class Loader {
           fail(accessor_name(pos_it->second, pos_role) + " holds a non-finite position at element " +
                std::to_string(i));
       }
-      // NORMAL (glTF: unit VEC3 float, one per POSITION): the shading normals (DESIGN.md §6).
+      // NORMAL (glTF: unit VEC3 float, one per POSITION): the shading normals (docs/design.md §6).
       std::vector<glm::vec3> normals;
       if (auto normal_it = prim.attributes.find("NORMAL"); normal_it != prim.attributes.end()) {
         const std::string role = "NORMAL of " + obj;

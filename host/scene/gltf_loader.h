@@ -1,4 +1,4 @@
-// glTF 2.0 (.gltf with embedded or external buffers, .glb) -> Scene, with the mapping of DESIGN.md §6.
+// glTF 2.0 (.gltf with embedded or external buffers, .glb) -> Scene, with the mapping of docs/design.md §6.
 #pragma once
 #include "scene/scene.h"
 #include <stdexcept>
@@ -15,7 +15,7 @@ class SceneError : public std::runtime_error {
 
 // What load_gltf gives:
 // * materials: index 0 is always the default material ("default": kd 0.8 grey, Lambert), used by
-//   primitives without one; file material i is at index i + 1. Mapping as DESIGN.md §6; a material
+//   primitives without one; file material i is at index i + 1. Mapping as docs/design.md §6; a material
 //   with max(kd + ks) > 1 is scaled down to 1 with a warning.
 // * triangles: the default scene (`scene`, else scene 0, else every root node), world space, one
 //   copy per node that instances a mesh. TRIANGLES, TRIANGLE_STRIP and TRIANGLE_FAN are

@@ -1,6 +1,6 @@
-// Patches (DESIGN.md §6): every triangle is split into k^2 sub-triangles (kernels/shared/patch.h)
+// Patches (docs/design.md §6): every triangle is split into k^2 sub-triangles (kernels/shared/patch.h)
 // with k chosen so that every sub-triangle edge is at most the target patch size. With clusters
-// (DESIGN.md §12, clusters.h) a clustered scene triangle owns no patches (k = 0) and its cluster's
+// (docs/design.md §12, clusters.h) a clustered scene triangle owns no patches (k = 0) and its cluster's
 // fan triangles, numbered after the scene's, own them: the "patch triangles".
 #pragma once
 #include "scene/clusters.h"
@@ -39,7 +39,7 @@ inline std::size_t scene_triangle_of(const Scene& scene, const PatchLayout& patc
 // cheap and the patch count scales with the scene's shape, not its units. --patch-size overrides.
 inline constexpr float kDefaultPatchFraction = 1.0f / 20.0f;
 float default_patch_size(const Scene& scene);
-// Default largest diameter of a cluster (--patch-clusters, DESIGN.md §12): kDefaultClusterFraction
+// Default largest diameter of a cluster (--patch-clusters, docs/design.md §12): kDefaultClusterFraction
 // of the diagonal. 1/80 gives the 25-room house (diagonal 32 m) clusters of up to 0.4 m, where its
 // RB error at 640x360 equals that of its 100 k triangles unclustered (docs/results.md, "Clusters").
 inline constexpr float kDefaultClusterFraction = 1.0f / 80.0f;

@@ -20,7 +20,7 @@ struct SceneMaterial {
   float shininess = 1.0f;      // Phong exponent n
   glm::vec3 emission{0.0f};    // radiance Le, W sr^-1 m^-2 (front side; both if double_sided)
   bool double_sided = false;
-  // KHR_materials_transmission, thin-walled (DESIGN.md §11): the share `transmission` of the surface is
+  // KHR_materials_transmission, thin-walled (docs/design.md §11): the share `transmission` of the surface is
   // a pane that passes (1 - F) transmission_tint straight through and mirrors F transmission, F by the
   // ior (kernels/shared/thin_glass.h); the opaque rest is scaled by 1 - transmission (kd and ks here;
   // a GGX material's f in the kernels).
@@ -51,7 +51,7 @@ struct SceneMaterial {
 struct SceneTriangle {
   glm::vec3 p[3];              // world space, metres, counter-clockwise = front
   std::uint32_t material = 0;
-  // glTF NORMAL at the corners, world space, unit, front side; interpolated for shading (DESIGN.md §6)
+  // glTF NORMAL at the corners, world space, unit, front side; interpolated for shading (docs/design.md §6)
   bool has_normals = false;
   glm::vec3 normal[3]{};
   // TEXCOORD corners of the texcoord sets the material's textures read (TextureView::uv_slot)

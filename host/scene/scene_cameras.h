@@ -1,4 +1,4 @@
-// The camera nodes of a glTF scene and their animations (walkthroughs, DESIGN.md §8): what
+// The camera nodes of a glTF scene and their animations (walkthroughs, docs/design.md §8): what
 // --camera, --cameras all and --camera-animation choose from (scene/camera_views.h).
 #pragma once
 #include <glm/glm.hpp>

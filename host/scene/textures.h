@@ -1,4 +1,4 @@
-// Textures on the host (DESIGN.md §6): decoding images into the scene's texel buffer, the glTF
+// Textures on the host (docs/design.md §6): decoding images into the scene's texel buffer, the glTF
 // sampler and KHR_texture_transform as a TextureView, per-triangle texcoords for the device, and
 // the per-patch means RB reflects with. Sampling itself is kernels/shared/texture.h.
 #pragma once

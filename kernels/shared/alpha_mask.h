@@ -1,4 +1,4 @@
-// alphaMode MASK (DESIGN.md §6): where a material's alpha (base colour factor x texel) is below
+// alphaMode MASK (docs/design.md §6): where a material's alpha (base colour factor x texel) is below
 // its cutoff there is no surface, for every ray -- camera, bounce and shadow rays -- and for RB's
 // fragments alike. Rays continue past such hits.
 #ifndef BP_SHARED_ALPHA_MASK_H

@@ -1,4 +1,4 @@
-// The BSDF of a vertex, one of two models chosen per material (DESIGN.md §6, §11): Modified Phong
+// The BSDF of a vertex, one of two models chosen per material (docs/design.md §6, §11): Modified Phong
 // (extras.phong, Lambert) here, or with BP_MATERIAL_GGX glTF's metallic-roughness BRDF
 // (shared/metallic_roughness.h); with their sampling routines and pdfs.
 // Conventions: wo points from the vertex towards the eye side, wi towards the light side; both
@@ -18,7 +18,7 @@ typedef struct {
   float shininess;      // of the density (every weight input): the material's, or the patch's mean with textures
   float shininess_f;    // of f: the texel's with textures (textured.h), else the same
   float p_diffuse;      // probability of sampling the diffuse lobe (by albedo)
-  float continuation;   // Russian-roulette continuation probability s (material only, DESIGN.md §3)
+  float continuation;   // Russian-roulette continuation probability s (material only, docs/design.md §3)
   bp_u32 flags;
   MetallicRoughness metallic_roughness;  // BP_MATERIAL_GGX: the glTF model (kd, ks, shininess, p_diffuse unused)
 } Bsdf;
@@ -27,7 +27,7 @@ typedef struct {
 BP_FN int bsdf_is_ggx(const Bsdf* b) { return BP_FEATURE_GGX && (b->flags & BP_MATERIAL_GGX) != 0u; }
 
 // The lobe choice and the continuation probability depend on the material alone, so the RB side
-// (which never sees PT's throughput) evaluates the same numbers (DESIGN.md §3, condition 1).
+// (which never sees PT's throughput) evaluates the same numbers (docs/design.md §3, condition 1).
 BP_FN Bsdf bsdf_from_material(BP_GLOBAL const Material* m) {
   Bsdf b;
   b.kd = bp_load3(m->kd);
@@ -61,7 +61,7 @@ BP_FN float pdf_uv_cosine(float cos_theta) { return cos_theta > 0.0f ? 2.0f * co
 // thing in either): callers that need both (a weight beside a reflection) evaluate it once.
 typedef struct {
   float3 f;      // f(wi, wo) in sr^-1: kd/pi + ks (n+2)/(2 pi) cos^n alpha, alpha between wi and the mirror of wo
-  float pdf_uv;  // the PT density of wi given wo: the full lobe mixture, whichever lobe was sampled (DESIGN.md §2)
+  float pdf_uv;  // the PT density of wi given wo: the full lobe mixture, whichever lobe was sampled (docs/design.md §2)
 } BsdfValue;
 
 BP_FN BsdfValue bsdf_evaluate(const Bsdf* b, float3 n, float3 wi, float3 wo) {
@@ -86,7 +86,7 @@ BP_FN BsdfValue bsdf_evaluate(const Bsdf* b, float3 n, float3 wi, float3 wo) {
   if (BP_FEATURE_TEXTURES && b->shininess_f != b->shininess)
     lobe_f = cos_alpha > 0.0f ? pow_unit(fmin(cos_alpha, 1.0f), b->shininess_f) : 0.0f;
   if (front) v.f += b->ks * ((b->shininess_f + 2.0f) * (0.5f * BP_INV_PI) * lobe_f);
-  // Phong lobe around the mirror direction: pdf_uv = (n+1) cos^n(alpha)   (DESIGN.md §2)
+  // Phong lobe around the mirror direction: pdf_uv = (n+1) cos^n(alpha)   (docs/design.md §2)
   v.pdf_uv = b->p_diffuse * pdf_uv_cosine(cos_theta) + (1.0f - b->p_diffuse) * ((b->shininess + 1.0f) * lobe);
   return v;
 }

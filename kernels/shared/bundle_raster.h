@@ -1,4 +1,4 @@
-// Rasterizing an element into the bins of the transillumination buffer (DESIGN.md §4): an element
+// Rasterizing an element into the bins of the transillumination buffer (docs/design.md §4): an element
 // covers a bin when the bin's centre lies inside its projection, found row by row as a span. The bin grid has a random
 // sub-bin offset every iteration, so the expected number of covered bins is exactly the projected
 // area over the bin area — what makes the gather unbiased, also for elements smaller than a bin.

@@ -1,4 +1,4 @@
-// Structs of the ray-bundle pass (DESIGN.md §4), shared by host and device. Float arrays only.
+// Structs of the ray-bundle pass (docs/design.md §4), shared by host and device. Float arrays only.
 #ifndef BP_SHARED_BUNDLE_TYPES_H
 #define BP_SHARED_BUNDLE_TYPES_H
 #include "shared/compat.h"
@@ -47,7 +47,7 @@ typedef struct {
   bp_u32 bins_per_side;   // R + 1 (the offset grid needs one more bin than R to cover the sphere)
   float omega_prev[3];    // previous iteration's direction (its incoming radiance is reflected now)
   bp_u32 light_count;     // lights to sample (kernels/shared/lights.h); 0: no light sampling
-  bp_u32 weight_mode;     // BP_WEIGHTS_*: how chain 0 is weighted (DESIGN.md §3)
+  bp_u32 weight_mode;     // BP_WEIGHTS_*: how chain 0 is weighted (docs/design.md §3)
   bp_u32 chains;          // radiance values per patch and fragment (see below)
   float weight_ratio;     // N2 / N1
   bp_u32 eye_outputs;     // per pixel: 1 (weighted), or 2 (weighted, raw)
@@ -68,7 +68,7 @@ typedef struct {
 
 // Chains per patch and fragment: chain 0 is the weighted one. With light sampling (product weights)
 // chain direct_chain = 1 holds the light that arrives straight from emitters, weighted per fragment
-// as the RB bundle technique of the last segment (DESIGN.md §3), and chain 0 then holds the rest.
+// as the RB bundle technique of the last segment (docs/design.md §3), and chain 0 then holds the rest.
 // With --eye-direct shared, chain eye_direct_chain = 2 holds the same light weighted for the eye
 // vertex (eye_segment_weights), which the eye estimate adds; the patches' light samples for the eye
 // go to a buffer of their own (their direction differs per patch).

@@ -1,5 +1,5 @@
 // Pinhole camera rays; the path tracer and the ray-bundle eye pass use the same jittered rays,
-// so both estimate the same pixel integral (DESIGN.md §4).
+// so both estimate the same pixel integral (docs/design.md §4).
 #ifndef BP_SHARED_CAMERA_H
 #define BP_SHARED_CAMERA_H
 #include "shared/compat.h"

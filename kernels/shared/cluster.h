@@ -1,4 +1,4 @@
-// Where a hit on a scene triangle lies among the patches (DESIGN.md §6, §12): on the triangle's own
+// Where a hit on a scene triangle lies among the patches (docs/design.md §6, §12): on the triangle's own
 // sub-triangle grid, or, for a triangle merged into a cluster, on the grid of the cluster's fan
 // triangle that holds the hit point. The path tracer (its patch-level weight inputs) and the eye
 // gather (its element and Gouraud corners) read the same place, so PT and RB agree on the patch.

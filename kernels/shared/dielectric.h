@@ -1,5 +1,5 @@
 // The optics of a refracting dielectric (glTF KHR_materials_transmission with KHR_materials_volume,
-// thickness > 0; DESIGN.md §11): a smooth interface between air and a homogeneous medium that
+// thickness > 0; docs/design.md §11): a smooth interface between air and a homogeneous medium that
 // refracts by Snell's law and reflects by the exact dielectric Fresnel equations, and the medium's
 // Beer-Lambert attenuation (KHR_materials_volume's attenuationColor over attenuationDistance). As a
 // thin pane's, the surface is the mix (1 - T) opaque rest + T interface; its transmitted light is
@@ -78,7 +78,7 @@ BP_FN DielectricSample dielectric_sample(float3 wo, float3 shading, float3 geome
   u *= sum;
   if (p_refract > 0.0f && u < p_refract) {
     s.wi = refract_through(wo, shading, eta);
-    if (!(dot(geometric, s.wi) < 0.0f)) return s;  // the shading normal's trap (DESIGN.md §6)
+    if (!(dot(geometric, s.wi) < 0.0f)) return s;  // the shading normal's trap (docs/design.md §6)
     s.event = BP_DIELECTRIC_REFRACT;
     s.factor = refracted * (sum / (p_refract * eta * eta));
   } else if (p_mirror > 0.0f && u < p_refract + p_mirror) {

@@ -1,4 +1,4 @@
-// The environment light (--environment, DESIGN.md §6) as an equirectangular radiance map: +Y up as
+// The environment light (--environment, docs/design.md §6) as an equirectangular radiance map: +Y up as
 // glTF, the image's centre column looking along -Z, u growing towards +X (to the right of a viewer
 // looking along -Z), v = 0 the top row (+Y). A uniform environment is the 1x1 map. Lookup is nearest
 // texel, so the sampling density below is exactly proportional to luminance x sin(theta) per texel.

@@ -1,4 +1,4 @@
-// Light selection that knows where the lights are (DESIGN.md §3): a BVH over the lights whose nodes
+// Light selection that knows where the lights are (docs/design.md §3): a BVH over the lights whose nodes
 // bound power, position and a cone of normals (Conty & Kulla 2018, as pbrt-v4's BVHLightSampler),
 // walked from the root with, at each node, the children chosen by their importance for the
 // receiver. The receiver is a patch (centroid, flat normal, bounding radius), not a point, so PT and

@@ -1,4 +1,4 @@
-// Light sampling (DESIGN.md §3, "Light sampling as a strategy"): the scene's lights -- emissive
+// Light sampling (docs/design.md §3, "Light sampling as a strategy"): the scene's lights -- emissive
 // triangles and KHR_lights_punctual point, spot and directional lights -- chosen for the receiving patch by the
 // light tree (light_tree.h) or by power alone, and the density of the direction a light sample
 // takes, in the uv measure (eq. 7) like every other density.
@@ -65,7 +65,7 @@ BP_FN bp_u32 light_pick(BP_GLOBAL const float* cdf, bp_u32 count, float u) {
 // Density in the uv measure of reaching a point of an emissive triangle from distance d when its
 // surface is crossed at cosine cos_light: p_uv = 2 pi p_area d^2 / cos_light (area to solid angle,
 // then eq. 7). p_area = select probability / area, one number per emissive material
-// (Material.light_pdf_area). Capped so the weights of DESIGN.md §3 stay finite at grazing angles.
+// (Material.light_pdf_area). Capped so the weights of docs/design.md §3 stay finite at grazing angles.
 BP_FN float light_pdf_uv_area(float light_pdf_area, float distance, float cos_light) {
   if (light_pdf_area <= 0.0f || cos_light <= 0.0f) return 0.0f;
   return fmin(BP_TWO_PI * light_pdf_area * distance * distance / cos_light, 1e30f);

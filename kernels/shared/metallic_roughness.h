@@ -1,5 +1,5 @@
 // glTF 2.0's metallic-roughness BRDF as the specification's Appendix B writes it, with KHR_materials_ior
-// and KHR_materials_specular (DESIGN.md §11):
+// and KHR_materials_specular (docs/design.md §11):
 //   material   = mix(dielectric_brdf, metal_brdf, metallic)
 //   metal_brdf = conductor_fresnel(f0 = baseColor, specular_brdf(alpha = roughness^2))
 //   dielectric_brdf = fresnel_mix(f0_color = specularColor, ior, weight = specular,
@@ -8,7 +8,7 @@
 // Sampling: the diffuse lobe by cosine, the specular one by GGX's visible normals, the lobe chosen by
 // a Fresnel-aware albedo estimate of the material, the normal and wo alone. Every pdf is in the
 // paper's uv measure (eq. 7). The `density_*` fields are the weight inputs: the material's, or with
-// textures its patch's mean (DESIGN.md §6), while f reads the texel's.
+// textures its patch's mean (docs/design.md §6), while f reads the texel's.
 #ifndef BP_SHARED_METALLIC_ROUGHNESS_H
 #define BP_SHARED_METALLIC_ROUGHNESS_H
 #include "shared/compat.h"
@@ -26,7 +26,7 @@ typedef struct {
   float density_metallic;
   float density_f0_max;   // max(dielectric_f0) and specular of the density and every weight input
   float density_specular_weight;
-  float opaque;           // 1 - transmission: the opaque rest's share of a transmitter (DESIGN.md §11), else 1
+  float opaque;           // 1 - transmission: the opaque rest's share of a transmitter (docs/design.md §11), else 1
 } MetallicRoughness;
 
 BP_FN MetallicRoughness metallic_roughness_from_material(BP_GLOBAL const Material* m) {
@@ -62,7 +62,7 @@ BP_FN float metallic_roughness_specular_probability(const MetallicRoughness* mr,
   return total > 0.0f ? specular / total : 0.0f;
 }
 
-// The continuation probability s (DESIGN.md §3: of the material alone): the albedo with Schlick's F
+// The continuation probability s (docs/design.md §3: of the material alone): the albedo with Schlick's F
 // averaged over a cosine-weighted hemisphere, F0 + (1 - F0)/21 (since the integral of 2 mu (1 - mu)^5
 // over [0, 1] is 1/21). Positive wherever f can be.
 BP_FN float metallic_roughness_continuation(const MetallicRoughness* mr) {
@@ -103,7 +103,7 @@ BP_FN void metallic_roughness_evaluate(const MetallicRoughness* mr, float3 n, fl
   float3 dielectric = f_dielectric * specular + mr->base_color * ((1.0f - bp_max3(f_dielectric)) * BP_INV_PI);
   // metal_brdf = conductor_fresnel: (baseColor + (1 - baseColor)(1 - |v.h|)^5) specular_brdf
   float3 metal = (mr->base_color + (one - mr->base_color) * weight) * specular;
-  // material = mix(dielectric_brdf, metal_brdf, metallic), times the opaque rest's share (DESIGN.md §11)
+  // material = mix(dielectric_brdf, metal_brdf, metallic), times the opaque rest's share (docs/design.md §11)
   *f = (dielectric * (1.0f - mr->metallic) + metal * mr->metallic) * mr->opaque;
 }
 

@@ -1,4 +1,4 @@
-// glTF's normalTexture (DESIGN.md §6): a tangent-space normal per texel, turned into the world by
+// glTF's normalTexture (docs/design.md §6): a tangent-space normal per texel, turned into the world by
 // the frame of the interpolated normal N, the interpolated TANGENT T and its handedness w. Only the
 // shading normal changes: the flat normal stays the geometric one and every weight input patch-level.
 #ifndef BP_SHARED_NORMAL_MAP_H
@@ -64,7 +64,7 @@ BP_FN float3 normal_mapped_at(const TextureSet* set, BP_GLOBAL const float* tang
   n_ts = normal_map_untransformed(set->views[mt->normal].transform, n_ts);
   float3 mapped = normal_map_to_world(n, t, w, n_ts);
   if (!front) mapped = -mapped;
-  return dot(mapped, geometric) > 0.0f ? mapped : interpolated;  // the shading normal's trap (DESIGN.md §6)
+  return dot(mapped, geometric) > 0.0f ? mapped : interpolated;  // the shading normal's trap (docs/design.md §6)
 }
 
 #endif  // BP_SHARED_NORMAL_MAP_H

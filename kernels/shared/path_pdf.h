@@ -1,4 +1,4 @@
-// The PT pdf state of a path prefix, q and r of eq. (9), and the weight hooks of DESIGN.md §3.
+// The PT pdf state of a path prefix, q and r of eq. (9), and the weight hooks of docs/design.md §3.
 // Kept in the log domain: q is a product of up to hundreds of factors, some above 1e4 for sharp
 // lobes, so it would overflow or underflow in plain float.
 #ifndef BP_SHARED_PATH_PDF_H
@@ -11,7 +11,7 @@
 typedef struct {
   float log_q;             // ln q: density of the prefix with the walk still alive
   float log_r;             // ln r: density of the prefixes that Russian roulette ended (uniform tail)
-  float beta_product;      // prod beta of the product weights (DESIGN.md §3); 1 = empty product. Each
+  float beta_product;      // prod beta of the product weights (docs/design.md §3); 1 = empty product. Each
                            // beta is in [0, 1], so it cannot overflow; underflow to 0 is its limit
                            // (w_RB = 0), which RB's own products reach alike
 } PathPdf;

@@ -1,5 +1,5 @@
 // What a path vertex knows of the surface it hit: position, the normal on the side the ray came
-// from, the material, and the patch (DESIGN.md §6: a double-sided triangle's back is its own patch).
+// from, the material, and the patch (docs/design.md §6: a double-sided triangle's back is its own patch).
 #ifndef BP_SHARED_SURFACE_H
 #define BP_SHARED_SURFACE_H
 #include "shared/compat.h"
@@ -10,7 +10,7 @@
 typedef struct {
   float3 position;
   float3 normal;       // flat patch normal, on the side of the incoming ray: offsets, sides, weight inputs
-  float3 shading_normal;  // for BSDF evaluation and sampling: NORMAL interpolated, else the flat one (DESIGN.md §6)
+  float3 shading_normal;  // for BSDF evaluation and sampling: NORMAL interpolated, else the flat one (docs/design.md §6)
   bp_u32 material;
   bp_u32 patch;
   int reflects;        // 0: the back of a single-sided surface (black, emits nothing)

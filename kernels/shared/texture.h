@@ -1,4 +1,4 @@
-// glTF textures (DESIGN.md §6): every image's texels in one buffer (RGBA8, one bp_u32 per texel, rows
+// glTF textures (docs/design.md §6): every image's texels in one buffer (RGBA8, one bp_u32 per texel, rows
 // top to bottom as glTF's uv (0, 0) is the image's top-left corner), a view per use of an image by
 // a material (sampler, KHR_texture_transform, texcoord set, sRGB or linear), and the material's
 // factors, so a hit's base colour, metallic, roughness, emission, specular and alpha are evaluated

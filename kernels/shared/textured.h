@@ -1,4 +1,4 @@
-// The BSDF at a textured hit (DESIGN.md §6): its patch's mean material decides everything the
+// The BSDF at a textured hit (docs/design.md §6): its patch's mean material decides everything the
 // weights read (the continuation s, the lobe choice, the density's roughness), the texel decides
 // f (base colour, metallic, roughness) and the emission. Untextured materials are left as they are.
 #ifndef BP_SHARED_TEXTURED_H

@@ -1,5 +1,5 @@
 // The optics of a thin-walled transmitter (glTF KHR_materials_transmission without a volume, or with
-// thickness 0; DESIGN.md §11): a pane that passes light straight through, attenuated, and reflects
+// thickness 0; docs/design.md §11): a pane that passes light straight through, attenuated, and reflects
 // the rest as a mirror. Fresnel is Schlick's approximation with F0 from the ior, as glTF's
 // fresnel_mix (Appendix B, KHR_materials_ior) evaluates it for both the BRDF and the BTDF, so a pane
 // here looks as it does in glTF viewers. A material is the mix (1 - T) opaque rest + T pane

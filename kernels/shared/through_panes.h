@@ -1,4 +1,4 @@
-// Rays through thin-walled transmitters (thin_glass.h, DESIGN.md §11): a pane is a filter on a
+// Rays through thin-walled transmitters (thin_glass.h, docs/design.md §11): a pane is a filter on a
 // segment, not a vertex. Shadow rays pass every pane with its transmittance; PT's rays and RB's eye
 // rays choose at each pane to pass, or to stop there (the mirror, the opaque rest).
 #ifndef BP_SHARED_THROUGH_PANES_H

@@ -9,7 +9,7 @@
 #define BP_MATERIAL_THIN_TRANSMITTER 4u  // KHR_materials_transmission, thin-walled (kernels/shared/thin_glass.h)
 #define BP_MATERIAL_REFRACTOR 8u  // KHR_materials_transmission with a volume: refracts (kernels/shared/dielectric.h)
 
-// A material (DESIGN.md §6): Modified Phong, f = kd/pi + ks (n+2)/(2 pi) cos^n(alpha) (extras.phong and
+// A material (docs/design.md §6): Modified Phong, f = kd/pi + ks (n+2)/(2 pi) cos^n(alpha) (extras.phong and
 // Lambert), or with BP_MATERIAL_GGX glTF 2.0's metallic-roughness BRDF (Appendix B: Lambert + GGX,
 // Schlick Fresnel) from the fields after light_pdf_area, kd, ks and shininess then unused. Le one-sided.
 typedef struct {
@@ -25,7 +25,7 @@ typedef struct {
   float roughness;         // glTF's perceptual roughness; the GGX alpha is its square
   float specular_weight;   // KHR_materials_specular's specular: scales the dielectric Fresnel (f0 and f90)
   float ggx_pad[3];
-  // A thin-walled transmitter (BP_MATERIAL_THIN_TRANSMITTER, DESIGN.md §11): the share `transmission`
+  // A thin-walled transmitter (BP_MATERIAL_THIN_TRANSMITTER, docs/design.md §11): the share `transmission`
   // of the surface is a pane (thin_glass.h); the rest is the opaque BSDF scaled by 1 - transmission
   // (Phong's kd and ks at load, gltf_loader.cpp's read_transmission; GGX's f, metallic_roughness.h).
   float transmission_tint[3];  // baseColor x transmission: the pane's straight-through filter before Fresnel
@@ -39,7 +39,7 @@ typedef struct {
 // What shading needs of a triangle besides its geometry (the BVH owns the geometry).
 // Patches: the triangle is split into patch_subdiv^2 sub-triangles (patch.h); a double-sided
 // triangle owns twice as many, the back-side ones after the front-side ones. A triangle merged into a
-// cluster (DESIGN.md §12) owns none (patch_subdiv 0): the cluster_fans triangles of its cluster's
+// cluster (docs/design.md §12) owns none (patch_subdiv 0): the cluster_fans triangles of its cluster's
 // fan, from cluster_first_fan in ClusterFan's array, own them.
 typedef struct {
   float normal[3];       // geometric unit normal, front side (counter-clockwise winding)
@@ -85,7 +85,7 @@ typedef struct {
   bp_u32 samples_per_launch; // samples each work-item takes for its pixel
   bp_u32 max_depth;          // safety cap on path length (Russian roulette ends paths long before)
   float ray_epsilon;         // scene-scaled offset for secondary rays, metres
-  float weight_ratio;        // N2 / N1 of the combination (DESIGN.md §1)
+  float weight_ratio;        // N2 / N1 of the combination (docs/design.md §1)
   bp_u32 weight_mode;        // BP_WEIGHTS_*
   bp_u32 light_count;        // lights to sample (kernels/shared/lights.h); 0: no light sampling
   bp_u32 beta_heuristic;     // BP_BETA_*: the per-vertex beta of product weights (kernels/shared/weights.h)

@@ -1,4 +1,4 @@
-// The combination weights of DESIGN.md §3, defined once and included by both estimators' kernels.
+// The combination weights of docs/design.md §3, defined once and included by both estimators' kernels.
 // ratio = N2 / N1 (RB iterations per PT sample per pixel). Every density is in the uv measure (eq. 7).
 #ifndef BP_SHARED_WEIGHTS_H
 #define BP_SHARED_WEIGHTS_H
@@ -6,11 +6,11 @@
 #include "shared/compat.h"
 #include "shared/path_pdf.h"
 
-// beta of a vertex (DESIGN.md §3, product weights), from P = (1 - s) + s p_uv(wi | wo), the PT density,
+// beta of a vertex (docs/design.md §3, product weights), from P = (1 - s) + s p_uv(wi | wo), the PT density,
 // with Russian roulette, of the direction wi that continues the path from a vertex whose eye side is
 // wo (the one-step quantity of eq. 10), against RB's density 1, with N1 and N2 samples:
-//   BP_BETA_BALANCE: beta = N2 / (N2 + N1 P), the paper's balance weight of one step (DESIGN.md's
-//                    default). A path of k diffuse vertices gets about (N2 / (N2 + N1))^k: RB loses
+//   BP_BETA_BALANCE: beta = N2 / (N2 + N1 P), the paper's balance weight of one step (--beta
+//                    balance). A path of k diffuse vertices gets about (N2 / (N2 + N1))^k: RB loses
 //                    long paths even where it samples them as well as PT.
 //   BP_BETA_CLAMPED: beta = min(1, N2 / (N1 P)): RB keeps the whole vertex wherever its sample density
 //                    is at least PT's, and the share above it; the product no longer decays along
@@ -43,7 +43,7 @@ BP_FN float paper_rb_weight(float log_pstar, float ratio_n2_over_n1) {
 }
 
 // The four techniques that can make the last segment of a path (the connection from x_{n-1} to the
-// emitter) when light sampling is on (DESIGN.md §3, "Light sampling as a strategy"): RB bundle
+// emitter) when light sampling is on (docs/design.md §3, "Light sampling as a strategy"): RB bundle
 // (density 1, N2 samples), RB per-patch light sample (p_L, rho N2: a patch samples the lights in an
 // iteration with probability rho, the rate), PT BSDF (s p_b, N1), PT light sample (p_L, N1). With
 // D = N2 (1 + rho p_L) + N1 (s p_b + p_L) and the product prefix_beta of the vertices before x_{n-1}:
@@ -83,7 +83,7 @@ BP_FN float rb_delta_sample_share(float p_select, float rb_own_samples) {
 // density, and PT's own share 1 - R split between its two techniques by its true density
 // pdf_bsdf_pt (the balance heuristic). The four weights sum to one for any pdf_bsdf_share, so a
 // density RB can evaluate without the view direction may stand in for PT's there (the eye vertex,
-// DESIGN.md §3 "Sharing the eye vertex's direct light with RB").
+// docs/design.md §3 "Sharing the eye vertex's direct light with RB").
 BP_FN LastSegmentWeights last_segment_split(float prefix_beta, float ratio_n2_over_n1, float rb_light_rate,
                                             float pdf_bsdf_share, float pdf_bsdf_pt, float pdf_light_uv,
                                             int is_delta) {
@@ -136,7 +136,7 @@ BP_FN float eye_direct_material_proxy_pdf_uv(BP_GLOBAL const Material* m, float 
   return eye_direct_proxy_pdf_uv(&b, cos_theta_in);
 }
 
-// The eye vertex's direct light shared between the four techniques (DESIGN.md §3, "Sharing the eye
+// The eye vertex's direct light shared between the four techniques (docs/design.md §3, "Sharing the eye
 // vertex's direct light with RB"): the empty prefix, RB's share from the proxy density, PT's split
 // by its true one:
 //   D~ = N2 (1 + rho p_L) + N1 (p~_b + p_L),  w_RB,bundle = N2 / D~,  w_RB,light = rho N2 p_L / D~,

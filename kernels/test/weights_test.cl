@@ -46,7 +46,7 @@ __kernel void path_weights(__global const Material* materials, __global const fl
   out[2 * path + 1] = w_rb;
 }
 
-// With light sampling (DESIGN.md §3): the four techniques of the last segment. The path's vertices
+// With light sampling (docs/design.md §3): the four techniques of the last segment. The path's vertices
 // are as above, the last one (k = vertices - 1) connecting to the light; pdf_light[path] is the
 // light-sampling density of that connection (uv), is_delta[path] marks a point or spot light (1) or
 // a sun that RB's patches also sample on their own (2, --rb-sun own: pdf_light is then the sun's

@@ -7,7 +7,7 @@
 # inverse: cd * 4 pi / 683 W for point lights, lux / 683 W/m^2 for suns) into an empty scene, and:
 # * every material becomes pure Lambert: a Diffuse BSDF (roughness 0) fed by what fed the
 #   Principled BSDF's Base Color (the texture node and its sRGB image, or the colour), as our loader
-#   reads Specular 0 / Metallic 0 (DESIGN.md section 6); emission, if any, is kept;
+#   reads Specular 0 / Metallic 0 (docs/design.md section 6); emission, if any, is kept;
 # * glTF's punctual lights are points and a parallel sun: radius 0, sun angle 0 (the importer leaves
 #   Blender's defaults, 0.25 m and 0.53 degrees, which are not in the file);
 # * Cycles on the CPU, fixed seed, no adaptive sampling, no denoising, no clamping, no light

@@ -1,6 +1,6 @@
 // An independent CPU path tracer for end-to-end tests. Plain double-precision C++ that shares no
 // sampling, BRDF, RNG or BVH code with the renderer it checks; only bp::Scene is common. It follows
-// the scene conventions of DESIGN.md §6: modified Phong, one-sided emitters and surfaces (both sides
+// the scene conventions of docs/design.md §6: modified Phong, one-sided emitters and surfaces (both sides
 // when the material is double_sided), the pinhole camera of bp::SceneCamera with y = 0 at the top.
 #pragma once
 #include "image/image.h"

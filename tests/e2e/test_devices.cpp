@@ -1,4 +1,4 @@
-// Several devices in one render (DESIGN.md §8), on PoCL's two CPU devices of one machine: equal ones
+// Several devices in one render (docs/design.md §8), on PoCL's two CPU devices of one machine: equal ones
 // (POCL_DEVICES="pthread pthread") and unequal ones ("basic pthread": one thread against all). The
 // variable is set for the bundlepath process, before it first asks for an OpenCL platform.
 #include "e2e/cli_runner.h"

@@ -1,4 +1,4 @@
-// One render on two MPI ranks (DESIGN.md §8) against one process, through `mpirun -np 2` and the
+// One render on two MPI ranks (docs/design.md §8) against one process, through `mpirun -np 2` and the
 // real binary. Built only where CMake found MPI and Open MPI's mpirun (BP_MPIRUN). The flags keep
 // mpirun working in a CI container: as root, two ranks whatever the core count, and shared memory
 // between the ranks without the network or ptrace (CMA) that a container may lack. Under

@@ -44,7 +44,7 @@ TEST(TargetError, BadValuesExitTwoWithOneLine) {
 // Two renders with independent seeds stop at --target-error 0.001; the error they really have is
 // measured from their difference, E[(I1 − I2)²] = Var1 + Var2 (the path tracer is unbiased, so this
 // is its whole relMSE; the combination's RB share adds a bias of about 0.00003 here, README, "Error
-// estimates"), with R ≈ (I1 + I2)/2 in DESIGN.md §7's denominator. The issue asks for
+// estimates"), with R ≈ (I1 + I2)/2 in docs/design.md §7's denominator. The issue asks for
 // 0.0005..0.0015; each run's own estimate must be within 1.5x of the measured value. The path tracer,
 // and the combination at c = 1, whose RB batches are 64 rounds: before PT's and RB's layers were
 // estimated from batches of their own it waited for eight of those, 512 rounds, and stopped at 0.0004.

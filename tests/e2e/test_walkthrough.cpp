@@ -1,4 +1,4 @@
-// Walkthroughs (issue #15, DESIGN.md §8): every view source, the frames of one shared ray-bundle
+// Walkthroughs (issue #15, docs/design.md §8): every view source, the frames of one shared ray-bundle
 // chain against single-view renders, and the bad inputs.
 #include "e2e/cli_runner.h"
 #include "image/image.h"

@@ -1,4 +1,4 @@
-// EXR/PNG output and the error metrics of host/image (DESIGN.md §7).
+// EXR/PNG output and the error metrics of host/image (docs/design.md §7).
 #include "image/image.h"
 
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// The combination over clustered patches (scene/clusters.h, DESIGN.md §12) agrees with the path
+// The combination over clustered patches (scene/clusters.h, docs/design.md §12) agrees with the path
 // tracer, which never sees the clusters: RB transfers, gathers and weighs per cluster, PT finds the
 // same cluster's patch for its weight inputs (kernels/shared/cluster.h), and the sum stays unbiased.
 #include "kernel/power_test.h"

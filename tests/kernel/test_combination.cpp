@@ -56,7 +56,7 @@ TEST(Combination, ProductWeightsConvergeToThePathTracedReferenceAndThePlainSumDo
   EXPECT_FALSE(significant_differences(none, reference, runs).empty()) << "the plain sum was not caught";
 }
 
-// Light sampling as a further strategy (DESIGN.md §3): the four techniques of the last segment keep
+// Light sampling as a further strategy (docs/design.md §3): the four techniques of the last segment keep
 // the product combination unbiased, for an area light and for a point light (which only the PT and
 // RB light samples reach), with every patch tracing its light sample each iteration and with a
 // quarter of them (the rate large scenes get; the weights count rate x N2 RB light samples).
@@ -86,7 +86,7 @@ TEST(Combination, LightSamplingKeepsTheProductWeightsUnbiasedUnderAnAreaLight) {
 }
 
 // Five lights of every kind, some behind a partition: with the light tree, p_L differs per receiving
-// patch, and PT and RB must still evaluate the same one (DESIGN.md §3, light selection).
+// patch, and PT and RB must still evaluate the same one (docs/design.md §3, light selection).
 TEST(Combination, LightSamplingKeepsTheProductWeightsUnbiasedUnderManyLightsChosenByTheTree) {
   expect_light_sampled_combination_unbiased(make_multi_light_box(), 0.25f, true, BP_LIGHT_SELECTION_TREE);
 }
@@ -105,7 +105,7 @@ TEST(Combination, LightSamplingKeepsTheProductWeightsUnbiasedUnderAPointLight) {
   expect_light_sampled_combination_unbiased(scene, 0.25f, true);
 }
 
-// A sun through an open ceiling (DESIGN.md §6, directional lights): only the light samples reach it,
+// A sun through an open ceiling (docs/design.md §6, directional lights): only the light samples reach it,
 // PT's and RB's per-patch shadow rays, which carry the indirect light it gives the room. The eye
 // vertex's direct light shared with RB is tested on a Lambert floor: on the glossy one RB's eye
 // gather reflects a patch's light where its own sample brought none (shadowed, or not taken at rate

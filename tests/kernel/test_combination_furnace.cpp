@@ -67,7 +67,7 @@ constexpr FurnaceRatio kRatioSixteenth{"1/16", 16, 1, 4, 4}, kRatioOne{"1", 1, 1
 
 // The cases: both betas at N2/N1 = 1/16, 1, 16 (where beta < 1 is common), with light sampling off
 // or on, and with light sampling the eye vertex's direct light PT's alone or shared with RB
-// (--eye-direct shared, DESIGN.md §3). A new setting is one more loop here.
+// (--eye-direct shared, docs/design.md §3). A new setting is one more loop here.
 std::vector<FurnaceCase> combination_cases(bool light_sampling,
                                            const std::vector<FurnaceRatio>& ratios = {kRatioSixteenth, kRatioOne,
                                                                                       kRatioSixteen},

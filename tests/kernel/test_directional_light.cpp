@@ -1,4 +1,4 @@
-// Directional lights (KHR_lights_punctual "directional", DESIGN.md §6): a delta in direction that only
+// Directional lights (KHR_lights_punctual "directional", docs/design.md §6): a delta in direction that only
 // light sampling reaches. A grey plane under a sun at angle theta reads kd/pi E cos(theta) in every
 // pixel -- exactly, since nothing in the estimate varies over the plane -- in the path tracer, and in
 // each layer of the combination, whose split of a delta light is fixed (c/(c + 1) to RB's per-patch

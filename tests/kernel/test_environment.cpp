@@ -1,4 +1,4 @@
-// Environment light (--environment R,G,B and FILE.exr, DESIGN.md §6): a convex Lambert object of
+// Environment light (--environment R,G,B and FILE.exr, docs/design.md §6): a convex Lambert object of
 // albedo a under a uniform environment of radiance L reads a L (every direction above a convex
 // surface leaves the scene), and the background reads L -- in the path tracer, in ray bundles alone,
 // and in the product-weight combination with and without light sampling (the environment is then a

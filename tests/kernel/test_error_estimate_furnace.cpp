@@ -1,4 +1,4 @@
-// The error estimate (DESIGN.md §9) on the path tracer in the furnace, whose per-sample variance is
+// The error estimate (docs/design.md §9) on the path tracer in the furnace, whose per-sample variance is
 // known: closed box, every surface emitting Le, Lambert albedo a, no light sampling; with s = a the
 // throughput stays 1, so a sample is Le times a geometric count of vertices, variance Le² a/(1−a)².
 #include "kernel/device_fixture.h"

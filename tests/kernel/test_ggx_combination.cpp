@@ -1,4 +1,4 @@
-// glTF's metallic-roughness BRDF in both estimators (DESIGN.md §11): a GGX surface under a uniform
+// glTF's metallic-roughness BRDF in both estimators (docs/design.md §11): a GGX surface under a uniform
 // environment reflects exactly its directional albedo -- PT alone, RB alone and combined, with and
 // without light sampling -- and in a closed box with a rough gold floor and plastic walls the product
 // combination converges to the path tracer's answer, with the power to see a 2 % bias, also with

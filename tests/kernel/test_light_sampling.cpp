@@ -1,4 +1,4 @@
-// Light sampling in the path tracer (DESIGN.md §3, "Light sampling as a strategy"): point and spot
+// Light sampling in the path tracer (docs/design.md §3, "Light sampling as a strategy"): point and spot
 // lights against their closed-form direct light, and next-event estimation against the path tracer
 // without it (per-region t-tests over independent runs).
 #include "kernel/device_fixture.h"

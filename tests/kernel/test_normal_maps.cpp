@@ -1,4 +1,4 @@
-// glTF normal maps in the kernels (DESIGN.md §6): the shading normal per texel in the path tracer's
+// glTF normal maps in the kernels (docs/design.md §6): the shading normal per texel in the path tracer's
 // walk and in RB's eye gather, the weights' inputs patch-level. A flat map renders as no map; a
 // tilted constant map scales a Lambert quad's direct light by the cosine ratio the map predicts; and
 // the combination over a box of bumpy walls agrees with the path tracer.

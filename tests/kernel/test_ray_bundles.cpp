@@ -1,4 +1,4 @@
-// Global ray-bundle iteration on the test device against analytic results (DESIGN.md §4).
+// Global ray-bundle iteration on the test device against analytic results (docs/design.md §4).
 #include "kernel/device_fixture.h"
 #include "stats.h"
 

@@ -1,4 +1,4 @@
-// The eye estimate in blocks (RayBundleSettings::eye_blocks, DESIGN.md §8): Lambert eye vertices
+// The eye estimate in blocks (RayBundleSettings::eye_blocks, docs/design.md §8): Lambert eye vertices
 // gathered once per block of iterations from per-patch sums give the same image as the gather of
 // every iteration -- the same sums in another order, so equal to float rounding -- in every
 // configuration the eye estimate has: each weight mode, light sampling with the eye's direct light

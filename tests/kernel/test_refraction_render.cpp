@@ -1,4 +1,4 @@
-// Refracting glass (KHR_materials_transmission with KHR_materials_volume; DESIGN.md §11) on the test
+// Refracting glass (KHR_materials_transmission with KHR_materials_volume; docs/design.md §11) on the test
 // device: PT refracts by Snell's law with the exact Fresnel equations and attenuates inside by
 // Beer-Lambert (closed forms: a clear closed object in a uniform sky is invisible, a slab passes
 // (1 - F)^2 tint^2 a / (1 - F^2 a^2)); every refraction and reflection is a delta vertex, PT's alone,

@@ -1,4 +1,4 @@
-// Shading normals (DESIGN.md §6): a coarse UV sphere whose NORMAL corners are the sphere's radial
+// Shading normals (docs/design.md §6): a coarse UV sphere whose NORMAL corners are the sphere's radial
 // directions, lit by a far point light. On a triangle with corners on a sphere the interpolated,
 // normalised corner normal at a point p is exactly normalize(p - centre), so the image has a closed
 // form on the mesh itself: kd/pi I cos(theta_shading)/d^2 where the flat normal faces the light, 0

@@ -1,4 +1,4 @@
-// Thin glass (KHR_materials_transmission, thin-walled; DESIGN.md §11) on the test device: a pane is
+// Thin glass (KHR_materials_transmission, thin-walled; docs/design.md §11) on the test device: a pane is
 // a filter on a segment. PT's shadow rays and its walk pass it attenuated by (1 - F) baseColor T
 // (closed forms: a sun's direct light, exact; a uniform sky's, by its cosine-weighted Schlick
 // factor), and the combination with a pane -- RB's bundles and eye rays through it, its light samples

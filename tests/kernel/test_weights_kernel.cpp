@@ -1,4 +1,4 @@
-// The combination's invariant (DESIGN.md §3): for any path, the weight the PT kernel code gives it and
+// The combination's invariant (docs/design.md §3): for any path, the weight the PT kernel code gives it and
 // the weight the RB kernel code gives it sum to one (--weights product, and the paper's weights on a
 // single path), never NaN, never outside [0, 1] -- run on the test device.
 #include "environment_maps.h"
@@ -130,7 +130,7 @@ LightConnections make_light_connections(std::uint32_t count, std::uint32_t seed)
   return c;
 }
 
-// DESIGN.md §3, light sampling: for random paths of every length (1 = the eye vertex's direct light,
+// docs/design.md §3, light sampling: for random paths of every length (1 = the eye vertex's direct light,
 // which PT owns alone under --eye-direct pt and shares with RB under --eye-direct shared), area and delta lights, the four techniques' weights computed the way the PT
 // kernel and the RB kernel compute them sum to one, each finite and in [0, 1].
 template <class Connections>
@@ -219,7 +219,7 @@ TEST(CombinationWeights, FourTechniquesOfTheLastSegmentSumToOneForTheEnvironment
 }
 
 TEST(CombinationWeights, DirectlyVisibleEmitterBelongsToRbUnderProductWeights) {
-  // The empty product: a path with no reflection has w_RB = 1, w_PT = 0 (DESIGN.md §3).
+  // The empty product: a path with no reflection has w_RB = 1, w_PT = 0 (docs/design.md §3).
   PathPdf p = path_pdf_start();
   EXPECT_EQ(pt_emission_weight(&p, BP_WEIGHTS_PRODUCT, 0.25f), 0.0f);
   // The paper's: the emitter seen directly is split N1 : N2.

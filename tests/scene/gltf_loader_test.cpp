@@ -60,7 +60,7 @@ TEST(GltfLoader, MaterialMapping) {
   expect_vec3_near(phong.ks, glm::vec3(0.5f));
   EXPECT_FLOAT_EQ(phong.shininess, 20.0f);
 
-  // Core glTF is the metallic-roughness BRDF (DESIGN.md §11): its factors as they are, no Phong mapping.
+  // Core glTF is the metallic-roughness BRDF (docs/design.md §11): its factors as they are, no Phong mapping.
   const SceneMaterial& core_default = s.materials[2];  // baseColor 1, metallic 1, roughness 1
   EXPECT_TRUE(core_default.ggx);
   expect_vec3_near(core_default.base_color, glm::vec3(1.0f));

@@ -1,4 +1,4 @@
-// glTF normal maps on the host (DESIGN.md §6): normalTexture (linear, its scale and texCoord), TANGENT
+// glTF normal maps on the host (docs/design.md §6): normalTexture (linear, its scale and texCoord), TANGENT
 // read, placed by the node (mirrored too) and checked, and tangents generated where it is missing.
 // The files are written here: a unit quad in z = 0 facing +z, with a 2 x 2 normal map as a data: URI;
 // the same quad carries the KHR_materials_specular texture test.

@@ -1,4 +1,4 @@
-// Patch clusters (scene/clusters.h, DESIGN.md §12): flat neighbouring triangles of one plain material
+// Patch clusters (scene/clusters.h, docs/design.md §12): flat neighbouring triangles of one plain material
 // merge into convex polygons that cover exactly what they replace; what RB must see apart stays
 // apart; and the path tracer's patch of a point (kernels/shared/cluster.h) is the patch whose RB
 // element holds the point.

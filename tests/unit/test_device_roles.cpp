@@ -1,4 +1,4 @@
-// Several devices (DESIGN.md §8): which device runs which pass, and --ratio auto's round when PT and
+// Several devices (docs/design.md §8): which device runs which pass, and --ratio auto's round when PT and
 // RB run at the same time.
 #include "render/parallel_pass.h"
 #include "render/render_devices.h"

@@ -1,4 +1,4 @@
-// The environment as a light (kernels/shared/lights.h, DESIGN.md §3 and §6): last in the list,
+// The environment as a light (kernels/shared/lights.h, docs/design.md §3 and §6): last in the list,
 // outside the light tree, its p_L one function of the direction that light sampling, PT's BSDF
 // samples and RB's bundles all evaluate; light sampling it estimates the irradiance it gives.
 #include "environment_maps.h"

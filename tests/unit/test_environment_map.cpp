@@ -1,5 +1,5 @@
 // The environment map's directions and sampling (kernels/shared/environment_map.h, compiled as C++)
-// against DESIGN.md §6's convention and against its own pdf: +Y up, the centre column along -Z;
+// against docs/design.md §6's convention and against its own pdf: +Y up, the centre column along -Z;
 // a piecewise-constant distribution by luminance x sin(theta), pdf_solid = pdf_image / (2 pi^2 sin theta).
 #include "stats.h"
 

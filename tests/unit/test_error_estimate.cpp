@@ -1,4 +1,4 @@
-// The batch-means error estimate (image/error_estimate.h, DESIGN.md §9) on synthetic rounds whose
+// The batch-means error estimate (image/error_estimate.h, docs/design.md §9) on synthetic rounds whose
 // variance is known: independent Gaussian rounds (PT's case) and an AR(1) chain (RB's case, a
 // Markov chain whose batches must outlast its correlation).
 #include "image/error_estimate.h"
@@ -82,7 +82,7 @@ TEST(ErrorEstimate, FirefliesDoNotHideTheirOwnVariance) {
     estimate.add(done, RoundSums{&sums});
   }
   ASSERT_EQ(estimate.batches(), 5u);
-  const double truth = variance / double(rounds) / (mean * mean + 0.01);  // DESIGN.md §7 at R = the mean
+  const double truth = variance / double(rounds) / (mean * mean + 0.01);  // docs/design.md §7 at R = the mean
   const double ratio = estimate.estimated_rel_mse(RoundSums{&sums}) / truth;
   EXPECT_GT(ratio, 1.0 / 1.4);
   EXPECT_LT(ratio, 1.4);

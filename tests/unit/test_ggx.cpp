@@ -324,7 +324,7 @@ INSTANTIATE_TEST_SUITE_P(Host, GgxChiSquare, ::testing::ValuesIn(kChiSquareCases
 // ---------------------------------------------------------------- weight inputs
 
 TEST(GgxWeights, ContinuationAndLobeChoiceDependOnTheMaterialNormalAndWoAlone) {
-  // s is a function of the material (DESIGN.md §3, condition 1) and the lobe choice of (material,
+  // s is a function of the material (docs/design.md §3, condition 1) and the lobe choice of (material,
   // n, wo); a texel's f must not change them (textured.h keeps the patch's density inputs).
   const Material m = make_material({{0.6f, 0.5f, 0.4f}, 0.3f, 0.5f, 1.0f, {0.04f, 0.04f, 0.04f}});
   Bsdf b = bsdf_from_material(&m);

@@ -1,4 +1,4 @@
-// Patches that follow the light (render/light_refinement.h, DESIGN.md §12): the shadowed share of a
+// Patches that follow the light (render/light_refinement.h, docs/design.md §12): the shadowed share of a
 // patch's light, and the refinement that splits the patches a shadow edge crosses, leaves evenly
 // lit ones alone, keeps to its budget and gives the same layout every time.
 #include "render/light_refinement.h"

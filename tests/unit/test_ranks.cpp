@@ -1,4 +1,4 @@
-// Several ranks (DESIGN.md §8): how a batch is shared out, each rank's RB chain seed, the render
+// Several ranks (docs/design.md §8): how a batch is shared out, each rank's RB chain seed, the render
 // loop's agreed stop, and one process's Ranks. Two real ranks: tests/e2e/test_ranks.cpp.
 #include "passes/render_loop.h"
 #include "render/rank_pass.h"

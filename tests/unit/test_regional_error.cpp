@@ -235,7 +235,7 @@ TEST(RegionalError, ImageRelMseUnderTheRegionalLevelCountsEachRegionsLevelOnce) 
     double sum = 0.0;
     for (std::size_t i = 0; i < s.rb.sum.size(); ++i) {
       const double value = (s.pt.sum[i] + factors[i] * s.rb.sum[i]) / kRounds;
-      sum += (value - kTruth) * (value - kTruth) / (kTruth * kTruth + 0.01);  // DESIGN.md §7's relMSE
+      sum += (value - kTruth) * (value - kTruth) / (kTruth * kTruth + 0.01);  // docs/design.md §7's relMSE
     }
     measured += sum / double(s.rb.sum.size()) / kRenders;
   }
