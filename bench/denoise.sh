@@ -8,17 +8,18 @@
 # 8x8-pixel blocks.
 #
 #   bash bench/denoise.sh [--scene NAME] [--size WxH] [--budget S] [--ref-spp N] [--modes "..."]
-#                         [--no-cycles] [--out DIR]
+#                         [--no-cycles] [--reuse] [--out DIR]
 #
 # Defaults: rooms-lambert-100000, 640x360, 30 s, a 2048-spp reference (bench/lib.sh caches it), the
 # modes "default regional pt rb" (default: the combination as it ships; regional: --rb-level
 # regional, the level before the consistent correction; pt: --mode pt; rb: --mode rb). Needs the
 # peers' venv (bench/peers/setup.sh) and OIDN (scripts/setup.sh --oidn). Prints a Markdown table.
+# --reuse keeps the renders already in --out (an interrupted run goes on).
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 # shellcheck source=bench/lib.sh
 source "$here/lib.sh"
-scene_name=rooms-lambert-100000 size=640x360 budget=30 ref_spp=2048 modes="default regional pt rb" cycles=1
+scene_name=rooms-lambert-100000 size=640x360 budget=30 ref_spp=2048 modes="default regional pt rb" cycles=1 reuse=0
 out=$bench_root/bench-out/denoise
 while [ $# -gt 0 ]; do
   case $1 in
@@ -28,6 +29,7 @@ while [ $# -gt 0 ]; do
     --ref-spp) ref_spp=$2; shift 2 ;;
     --modes) modes=$2; shift 2 ;;
     --no-cycles) cycles=0; shift ;;
+    --reuse) reuse=1; shift ;;
     --out) out=$2; shift 2 ;;
     *) echo "denoise.sh: unknown argument $1" >&2; exit 2 ;;
   esac
@@ -48,12 +50,14 @@ for seed in 1 2; do
       rb) extra=(--mode rb) ;;
       *) echo "denoise.sh: unknown mode $m" >&2; exit 2 ;;
     esac
+    [ "$reuse" -eq 1 ] && [ -f "$out/$m-s$seed.exr" ] && continue
     bench_render "$scene" "${wh[@]}" --time "$budget" --seed "$seed" --denoise "${extra[@]}" \
       --out "$out/$m-s$seed" --stats "$out/$m-s$seed.json" 2> "$out/$m-s$seed.log"
   done
   if [ "$cycles" -eq 1 ]; then
-    OCL_ICD_VENDORS=/nonexistent "$py" "$here/peers/cycles_peer.py" "$scene" "$out/cycles-s$seed" "${wh[1]}" \
-      "${wh[3]}" --time "$budget" --threads "$(nproc)" --seed "$seed" --denoise > "$out/cycles-s$seed.log" 2>&1
+    [ "$reuse" -eq 1 ] && [ -f "$out/cycles-s$seed.exr" ] && continue
+    OCL_ICD_VENDORS=/nonexistent "$py" "$here/peers/cycles_peer.py" "$scene" "$out/cycles-s$seed" "${wh[@]}" \
+      --time "$budget" --threads "$(nproc)" --seed "$seed" --denoise > "$out/cycles-s$seed.log" 2>&1
   fi
 done
 pt_pair=()
