@@ -94,7 +94,8 @@ options:
 outputs:
   --denoise           denoise the image with OpenImageDenoise (colour + albedo + normal, as
                       Blender does), inside --time; the EXR keeps the render's own as raw.*,
-                      the PNG is the denoised one. Needs `bash scripts/setup.sh --oidn`
+                      the PNG is the denoised one; --ratio auto then takes the path tracer
+                      alone. Needs `bash scripts/setup.sh --oidn`
   --layers all        also write the unweighted pt_raw and rb_raw layers
   --contact-sheet F   write F.png: unweighted PT, weighted PT, combined, unweighted RB,
                       weighted RB, reference (implies --layers all)

@@ -273,6 +273,13 @@ static void decide_auto_settings(RenderState& s, RenderObserver& observer) {
       if (s.shape->pt_alone() && o.iterations)
         throw UsageError("the checkpoint was rendered by the path tracer alone (--ratio auto chose it): count "
                          "with --spp or --time, not --iterations");
+    } else if (o.denoise) {
+      // Under a denoiser the path tracer's white noise is what OIDN removes and the ray bundles'
+      // low-frequency error is what it keeps: the path tracer alone, no probe (docs/results.md,
+      // "Denoised images": on the Lambert house at 30 s half the default's error after denoising).
+      s.shape = RoundShape{1, 0};
+      observer.note("--ratio auto with --denoise: the path tracer alone (a denoiser removes its noise, not the ray "
+                    "bundles' smooth error; give --ratio to combine)");
     } else {
       // The share for the eye-direct choice known now (auto counts as shared until it is resolved).
       s.probe = run_probe(s, auto_ratio_pt_time_share(s.light_sampling && !s.eye_direct_shared));
