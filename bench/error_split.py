@@ -7,7 +7,8 @@ judged by 8x8-pixel blocks. Runs in the peers' venv (numpy, OpenEXR: bench/peers
 
 A1, A2: one method at two seeds (same options); P1, P2: `--mode pt` at two seeds, whose pair gives the
 reference's own noise (relMSE of PT less its variance: PT is unbiased); --layer: the images' layer
-(e.g. `raw`, a --denoise render's undenoised image; PT's pair too where it has it). Per method, one
+(e.g. `raw`, a --denoise render's undenoised image); PT's pair is read undenoised (its `raw` layer
+where it has one). Per method, one
 Markdown row:
 * relMSE of A1 and A2 (bundlepath's metric: mean over pixels and channels of (I-R)^2 / (R^2 + 0.01));
 * variance: half the relMSE between A1 and A2 (the reference in the denominator);
@@ -77,9 +78,9 @@ def main():
     ref_noise, ref_var = 0.0, np.zeros_like(ref)
     if a.pt:
         pts = []
-        for x in a.pt:
+        for x in a.pt:  # an undenoised PT pair: a --denoise render's raw layer where it has one
             try:
-                pts.append(read(x, a.layer))
+                pts.append(read(x, "raw"))
             except KeyError:
                 pts.append(read(x))
         pt_var = rel_mse(pts[0], pts[1], ref) / 2
