@@ -35,14 +35,15 @@ struct SeedStatistics {
 // Eight seeds at N2/N1 = 1 (RB's weighted layer about a fifth of the image; its level varies by a
 // few percent between seeds through the per-vertex beta, PT's by a few tenths): a t-test across
 // seeds of PT's level less RB's, and of the corrected image's mean against 2, with one factor
-// (corrected) and with the regional field (the default, 8x8 regions of 2x2 pixels: PT's estimate of
-// each region's share from 256 samples). A PT share taken without its weighted part (level 2
-// instead of 0.4), or RB's layer scaled twice, fails both.
+// (corrected), with the regional field (8x8 regions of 2x2 pixels: PT's estimate of each region's
+// share from 256 samples), and with the consistent level (the default: the regional field, then the
+// share corrected down to each pixel). A PT share taken without its weighted part (level 2 instead
+// of 0.4), or RB's layer scaled twice, fails them.
 TEST(RbLevelCli, FurnaceLevelsAgreeAndTheCorrectedImageKeepsTheFurnacesValue) {
   const std::string dir = fresh_dir("rb_level_furnace");
   constexpr int kSeeds = 8;
-  const double alpha = sidak_alpha(1e-3, 2);
-  SeedStatistics level_difference, corrected_mean, regional_mean;
+  const double alpha = sidak_alpha(1e-3, 4);
+  SeedStatistics level_difference, corrected_mean, regional_mean, consistent_mean;
   for (int seed = 1; seed <= kSeeds; ++seed) {
     const std::string out = dir + "/s" + std::to_string(seed);
     const std::string render = "render " + kFurnace + "--width 16 --height 16 --mode combined --ratio 1 --spp 64 --seed " +
@@ -53,23 +54,31 @@ TEST(RbLevelCli, FurnaceLevelsAgreeAndTheCorrectedImageKeepsTheFurnacesValue) {
     ASSERT_EQ(level["mode"], "corrected");
     level_difference.add(level["pt"][0].get<double>() - level["rb"][0].get<double>());
     corrected_mean.add(image_mean(read_exr(out + ".exr")));
-    CliResult regional = run_cli(render + " --out " + out + "r --stats " + out + "r.json");
+    CliResult regional = run_cli(render + " --rb-level regional --out " + out + "r --stats " + out + "r.json");
     ASSERT_EQ(regional.exit_code, 0) << regional.output;
     ASSERT_EQ(nlohmann::json::parse(std::ifstream(out + "r.json"))["rb_level"]["mode"], "regional");
     regional_mean.add(image_mean(read_exr(out + "r.exr")));
+    CliResult consistent = run_cli(render + " --out " + out + "c --stats " + out + "c.json");
+    ASSERT_EQ(consistent.exit_code, 0) << consistent.output;
+    ASSERT_EQ(nlohmann::json::parse(std::ifstream(out + "c.json"))["rb_level"]["mode"], "consistent");
+    consistent_mean.add(image_mean(read_exr(out + "c.exr")));
   }
   const double t_levels = level_difference.mean() / level_difference.standard_error();
   const double t_image = (corrected_mean.mean() - kFurnaceValue) / corrected_mean.standard_error();
   const double t_regional = (regional_mean.mean() - kFurnaceValue) / regional_mean.standard_error();
+  const double t_consistent = (consistent_mean.mean() - kFurnaceValue) / consistent_mean.standard_error();
+  std::printf("consistent %.5f +- %.5f (t %.2f)\n", consistent_mean.mean(), consistent_mean.standard_error(), t_consistent);
   std::printf("PT - RB level %.5f +- %.5f (t %.2f); corrected image %.5f +- %.5f (t %.2f); regional %.5f +- %.5f (t %.2f)\n",
               level_difference.mean(), level_difference.standard_error(), t_levels, corrected_mean.mean(),
               corrected_mean.standard_error(), t_image, regional_mean.mean(), regional_mean.standard_error(), t_regional);
   EXPECT_GT(student_t_two_sided_p(t_levels, kSeeds - 1), alpha);
   EXPECT_GT(student_t_two_sided_p(t_image, kSeeds - 1), alpha);
   EXPECT_GT(student_t_two_sided_p(t_regional, kSeeds - 1), alpha);
+  EXPECT_GT(student_t_two_sided_p(t_consistent, kSeeds - 1), alpha);
   // Power: the image mean's standard error is under 0.5 % of its value, so a 2 % bias is t > 4.
   EXPECT_LT(corrected_mean.standard_error(), 0.005 * kFurnaceValue);
   EXPECT_LT(regional_mean.standard_error(), 0.005 * kFurnaceValue);
+  EXPECT_LT(consistent_mean.standard_error(), 0.005 * kFurnaceValue);
 }
 
 // The image written is pt + s·rb per channel with the stats' factors s (corrected), and pt + rb (own).
@@ -101,7 +110,7 @@ TEST(RbLevelCli, WrittenImageIsPtPlusTheFactorTimesRb) {
   {
     const std::string out = dir + "/regional";
     CliResult r = run_cli("render " + kFurnace + "--width 12 --height 10 --mode combined --ratio 1/2 --spp 16 " +
-                          "--regions 3 --out " + out + " --stats " + out + ".json");
+                          "--rb-level regional --regions 3 --out " + out + " --stats " + out + ".json");
     ASSERT_EQ(r.exit_code, 0) << r.output;
     const nlohmann::json level = nlohmann::json::parse(std::ifstream(out + ".json"))["rb_level"];
     ASSERT_EQ(level["mode"], "regional");
