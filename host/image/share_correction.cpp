@@ -36,6 +36,7 @@ ShareCorrection correct_share(const ImageRGB& rb, const ImageRGB& d, const std::
   for (double v : d_variance)
     if (!std::isfinite(v)) return out;
   std::vector<double> share(out.share.rgb.begin(), out.share.rgb.end());
+  std::vector<double> block_lambda;  // per pixel, the last block level's λ: the pixel level's gate
   const std::vector<double> d_values(d.rgb.begin(), d.rgb.end());
   for (int edge : kShareCorrectionBlocks) {
     const RegionGrid grid =
@@ -79,15 +80,20 @@ ShareCorrection correct_share(const ImageRGB& rb, const ImageRGB& d, const std::
       for (int y = 0; y < height; ++y)
         for (int x = 0; x < width; ++x) {
           const std::size_t p = std::size_t(y) * std::size_t(width) + std::size_t(x), b = grid.region_of(x, y);
-          out.lambda[p] = lambda[b];
+          const double l = block_lambda[p] > 0.0 ? lambda[b] : 0.0;  // kShareCorrectionBlocks: the gate
+          out.lambda[p] = l;
           for (int c = 0; c < 3; ++c) {
-            share[p * 3 + c] += correction[b][std::size_t(c)];
-            out.left_error[p * 3 + c] = (1.0 - lambda[b]) * (1.0 - lambda[b]) * left[c][b];
+            share[p * 3 + c] += l * residual[b][std::size_t(c)];
+            out.left_error[p * 3 + c] = (1.0 - l) * (1.0 - l) * left[c][b];
           }
         }
     } else {
       const std::vector<double> field = grid.bilinear(correction);
       for (std::size_t i = 0; i < share.size(); ++i) share[i] += field[i];
+      block_lambda.resize(pixels);
+      for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x)
+          block_lambda[std::size_t(y) * std::size_t(width) + std::size_t(x)] = lambda[grid.region_of(x, y)];
     }
   }
   for (std::size_t i = 0; i < share.size(); ++i) out.share.rgb[i] = float(share[i]);

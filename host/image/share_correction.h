@@ -39,12 +39,18 @@ namespace bp {
 // regional; κ = 4 made it 2-3 % lower (128x128, c = 1/16, one seed against 4096 spp; docs/results.md).
 constexpr double kShareCorrectionThreshold = 4.0;
 
-// The pyramid's block edges in pixels, coarse to fine; 1 is the pixel level.
+// The pyramid's block edges in pixels, coarse to fine; 1 is the pixel level. The pixel level corrects
+// only where the last block level (4x4) did: pixels' pooled residuals cross the threshold by chance
+// far more often than blocks' (PT's noise per pixel is heavy-tailed, and its variance there rests on
+// few batches), and each such crossing puts PT's noise into an unbiased pixel. Without the gate the
+// Lambert house at 7 spp + 224 iterations had 1.5x the variance of --rb-level regional, with it 0.9x
+// and the same blocks (docs/results.md). Consistency then holds wherever RB's bias does not cancel
+// exactly inside every 4x4 block of a 12x12-pixel neighbourhood.
 constexpr std::array<int, 5> kShareCorrectionBlocks = {32, 16, 8, 4, 1};
 
 struct ShareCorrection {
   ImageRGB share;                   // the corrected share: what the image adds to PT's weighted layer
-  std::vector<double> lambda;       // per pixel, the pixel level's λ (1: PT's estimate of the share alone)
+  std::vector<double> lambda;       // per pixel, the pixel level's λ (1: PT's estimate of the share alone; 0 gated)
   std::vector<double> left_error;   // per pixel and channel, (1 − λ)² (pooled residual² − V_d): may be < 0
 };
 
