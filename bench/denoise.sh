@@ -11,15 +11,16 @@
 #                         [--no-cycles] [--reuse] [--out DIR]
 #
 # Defaults: rooms-lambert-100000, 640x360, 30 s, a 2048-spp reference (bench/lib.sh caches it), the
-# modes "default regional pt rb" (default: the combination as it ships; regional: --rb-level
-# regional, the level before the consistent correction; pt: --mode pt; rb: --mode rb). Needs the
+# modes "default ratio=1/32 regional pt rb" (default: as it ships, which with --denoise is the path
+# tracer alone; ratio=C: the combination at --ratio C, the consistent level; regional: --rb-level
+# regional at --ratio auto's choice; pt: --mode pt; rb: --mode rb). Needs the
 # peers' venv (bench/peers/setup.sh) and OIDN (scripts/setup.sh --oidn). Prints a Markdown table.
 # --reuse keeps the renders already in --out (an interrupted run goes on).
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 # shellcheck source=bench/lib.sh
 source "$here/lib.sh"
-scene_name=rooms-lambert-100000 size=640x360 budget=30 ref_spp=2048 modes="default regional pt rb" cycles=1 reuse=0
+scene_name=rooms-lambert-100000 size=640x360 budget=30 ref_spp=2048 modes="default ratio=1/32 regional pt rb" cycles=1 reuse=0
 out=$bench_root/bench-out/denoise
 while [ $# -gt 0 ]; do
   case $1 in
@@ -45,14 +46,16 @@ for seed in 1 2; do
   for m in $modes; do
     case $m in
       default) extra=() ;;
-      regional) extra=(--rb-level regional) ;;
+      regional) extra=(--rb-level regional --ratio 1/32) ;;
       pt) extra=(--mode pt) ;;
       rb) extra=(--mode rb) ;;
+      ratio=*) extra=(--ratio "${m#ratio=}") ;;
       *) echo "denoise.sh: unknown mode $m" >&2; exit 2 ;;
     esac
-    [ "$reuse" -eq 1 ] && [ -f "$out/$m-s$seed.exr" ] && continue
+    stem=$out/${m//\//_}-s$seed  # ratio=1/32 -> ratio=1_32
+    [ "$reuse" -eq 1 ] && [ -f "$stem.exr" ] && continue
     bench_render "$scene" "${wh[@]}" --time "$budget" --seed "$seed" --denoise "${extra[@]}" \
-      --out "$out/$m-s$seed" --stats "$out/$m-s$seed.json" 2> "$out/$m-s$seed.log"
+      --out "$stem" --stats "$stem.json" 2> "$stem.log"
   done
   if [ "$cycles" -eq 1 ]; then
     [ "$reuse" -eq 1 ] && [ -f "$out/cycles-s$seed.exr" ] && continue
@@ -66,7 +69,7 @@ first=--header
 for m in $modes; do
   for layer in RGB raw; do
     label="$m $([ $layer = RGB ] && echo '+ OIDN' || echo raw)"
-    "$py" "$here/error_split.py" "$ref" --images "$out/$m-s1.exr" "$out/$m-s2.exr" "${pt_pair[@]}" \
+    "$py" "$here/error_split.py" "$ref" --images "$out/${m//\//_}-s1.exr" "$out/${m//\//_}-s2.exr" "${pt_pair[@]}" \
       --layer "$layer" --label "$label" $first
     first=
   done

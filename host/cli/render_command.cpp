@@ -68,7 +68,9 @@ void print_summary(const RenderOptions& o, const RenderResult& r) {
   }
   // RB's bias as far as PT sees it (ImageErrorEstimate::rb_bias_rel_mse): a combined render's.
   char bias[160] = "";
-  if (r.consistent)  // the correction's own estimate holds what is left of RB's bias (image/share_correction.h)
+  if (o.mode == "rb")  // nothing estimates RB's patch-level bias without the path tracer
+    std::snprintf(bias, sizeof bias, "; noise only: the ray bundles' bias from their patches is not in it");
+  else if (r.consistent)  // the correction's own estimate holds what is left of RB's bias (image/share_correction.h)
     std::snprintf(bias, sizeof bias, "; the ray bundles' share corrected by the path tracer's, what is left of its "
                   "bias included");
   else if (r.rb_bias_rel_mse > 0.0)
