@@ -106,7 +106,8 @@ TEST(Docs, EveryRenderOptionIsInTheGuideAndEveryGuideOptionInTheHelp) {
 
   // Options of other commands and programs that the guide may name.
   const std::set<std::string> others = {"--version", "--layer", "--json",  // bundlepath --version, compare
-                                        "--oversubscribe", "--allow-run-as-root", "--mca"};  // mpirun
+                                        "--oversubscribe", "--allow-run-as-root", "--mca",  // mpirun
+                                        "--oidn"};  // scripts/setup.sh
   for (const std::string& o : mentioned_options(guide))
     EXPECT_TRUE(all.count(o) || others.count(o)) << "docs/guide.md names " << o << ", which `render --help-all` does not";
 
