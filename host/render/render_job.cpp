@@ -17,8 +17,10 @@
 namespace bp {
 namespace {
 
-// The beauty's denoise over the prefilter of its albedo and normal (two filters), to keep it inside
-// --time (prepare_features). An over-estimate: the beauty's filter took 0.52-0.62 of the prefilter.
+// The beauty's denoise against the prefilter of its albedo and normal, to keep it inside --time
+// (prepare_features): one filter on three inputs against two filters on one each; an estimate, not
+// timed apart. On the Lambert house at 640x360, --time 30 --denoise ended at 30.8 s of wall time,
+// the rounds' last batch included (docs/results.md, "Denoised images").
 constexpr double kDenoiseCostOverPrefilter = 0.75;
 
 // PT's unweighted image u and its estimate of RB's share d = u − w, times the rounds.
@@ -180,7 +182,9 @@ void start_error_estimate(RenderState& s) {
         !s.resumed ? nullptr : k ? &s.resumed->further_views[k - 1].error_estimate : &s.resumed->error_estimate;
     // Without --rb-level consistent's two batch states, which follow (save_checkpoint).
     std::vector<BatchMeansErrorEstimate::State> own;
-    if (saved_states) own.assign(saved_states->begin(), saved_states->end() - (view.pt_raw_batches && saved_states->size() >= 2 ? 2 : 0));
+    if (saved_states)
+      own.assign(saved_states->begin(),
+                 saved_states->end() - (view.pt_raw_batches && saved_states->size() >= 2 ? 2 : 0));
     const std::vector<BatchMeansErrorEstimate::State>* saved = saved_states ? &own : nullptr;
     // A checkpoint of before the layers were estimated apart holds one estimate of their sum, one of
     // before the check none of it: the resumed render's estimate starts afresh where that does not fit.
@@ -227,10 +231,9 @@ void start_rb_levels(RenderState& s) {
     view.rb_level.emplace(RegionGrid::over(s.scene.width, s.scene.height, regions, regions), s.first_round,
                           view.pt_accum, s.shape->pt_samples, view.rb_accum, s.shape->rb_iterations, saved);
     if (!rb_share_consistent(s.spec)) continue;
-    // PT's u and d per round, from the rounds this run renders (a resumed render's earlier rounds
-    // count in the means, not in the variances' batches).
-    // A checkpoint keeps their states after the error estimate's (save_checkpoint); one of another
-    // level has none, and they start from the rounds this run renders.
+    // PT's u and d in batches of a round. A checkpoint keeps their states after the error estimate's
+    // (save_checkpoint); one of another level has none, and they start from the rounds this run
+    // renders (the earlier rounds count in the means, not in the variances' batches).
     const std::vector<BatchMeansErrorEstimate::State>* saved_batches =
         !s.resumed ? nullptr : k ? &s.resumed->further_views[k - 1].error_estimate : &s.resumed->error_estimate;
     if (saved_batches && saved_batches->size() >= 2 && saved_batches->back().width == s.scene.width &&
@@ -282,8 +285,7 @@ void save_checkpoint(RenderState& s, std::uint64_t rounds, double seconds) {
 
 // Each view's first-hit albedo and normal (the EXR's albedo and normal layers), on root's first
 // device; with --denoise prefiltered, and the time they and the beauty's denoise will take kept out of
-// --time's rounds. The beauty's filter costs about what one auxiliary image's did (OIDN's "RT" filter
-// on three inputs against one, measured on 2 CPU cores: docs/results.md).
+// --time's rounds (kDenoiseCostOverPrefilter).
 void prepare_features(RenderState& s) {
   if (!s.ranks.root()) return;
   const auto start = std::chrono::steady_clock::now();
