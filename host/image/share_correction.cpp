@@ -64,12 +64,9 @@ ShareCorrection correct_share(const ImageRGB& rb, const ImageRGB& d, const std::
                 0.0722 * 0.0722 * variance_sums[b * 3 + 2]) / (n * n);
     }
     const std::vector<double> e2 = pooled(grid, residual_sq), v = pooled(grid, v_d);
-    std::vector<std::array<double, 3>> correction(blocks);
     std::vector<double> lambda(blocks);
-    for (std::size_t b = 0; b < blocks; ++b) {
+    for (std::size_t b = 0; b < blocks; ++b)
       lambda[b] = e2[b] > 0.0 ? std::clamp(1.0 - kShareCorrectionThreshold * v[b] / e2[b], 0.0, 1.0) : 0.0;
-      for (int c = 0; c < 3; ++c) correction[b][std::size_t(c)] = lambda[b] * residual[b][std::size_t(c)];
-    }
     if (edge == 1) {  // the pixel level: no field, and what it leaves is the share's error
       std::vector<double> left[3];
       for (int c = 0; c < 3; ++c) {
@@ -88,6 +85,9 @@ ShareCorrection correct_share(const ImageRGB& rb, const ImageRGB& d, const std::
           }
         }
     } else {
+      std::vector<std::array<double, 3>> correction(blocks);
+      for (std::size_t b = 0; b < blocks; ++b)
+        for (std::size_t c = 0; c < 3; ++c) correction[b][c] = lambda[b] * residual[b][c];
       const std::vector<double> field = grid.bilinear(correction);
       for (std::size_t i = 0; i < share.size(); ++i) share[i] += field[i];
       block_lambda.resize(pixels);
