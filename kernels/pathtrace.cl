@@ -385,11 +385,9 @@ static FirstHitFeatures first_hit_features_of(const SceneRefs* scene, const Path
                                               hit_material->transmission, bp_load3(hit_material->transmission_tint),
                                               rest, rng_uniform(rng));
       if (ds.event == BP_DIELECTRIC_ABSORBED) return out;
+      throughput *= ds.factor;  // as the path tracer's walk: the rest's too (its 1 / probability)
       delta = ds.event != BP_DIELECTRIC_REST;
-      if (delta) {
-        throughput *= ds.factor;
-        dir = ds.wi;
-      }
+      if (delta) dir = ds.wi;
     }
     if (delta) {
       origin = surface.position + surface.normal * (dot(surface.normal, dir) > 0.0f ? params->ray_epsilon
