@@ -73,7 +73,7 @@ options:
   --target-block-error E  render until the worst region of the --regions grid is expected to be
                       off by at most E (a relative error, e.g. 0.02); like --target-error
   --mode MODE         pt (path tracing), rb (global ray-bundle iteration) or combined (both,
-                      weighted per path so the sum stays unbiased)                 [combined]
+                      weighted per path; RB's share corrected by PT's so it converges) [combined]
   --ratio C           combined: PT samples per pixel per RB iteration (1/16, 4; 0: RB alone),
                       or auto: timed on the scene and device (more PT where it is glossy),
                       the choice printed                                              [auto]
