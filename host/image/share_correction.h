@@ -35,16 +35,16 @@ namespace bp {
 // its pooled residual's mean square is κ times PT's noise or more (twice its amplitude: nine pooled
 // blocks of pure noise reach it with probability 2e-5), so PT's noise does not leak into RB's share
 // where RB is right; still λ → 1 wherever RB is biased, as V_d → 0. κ = 1 (the least-squares λ,
-// its noise unaccounted) doubled the Cornell box's relMSE at 16 and 128 spp against --rb-level
-// regional; κ = 4 made it 2-3 % lower (128x128, c = 1/16, one seed against 4096 spp; docs/results.md).
+// its noise unaccounted) lets PT's noise into RB's exact share and over-reports what it leaves
+// (tests/unit/test_share_correction.cpp fails with it); κ = 4 passes them.
 constexpr double kShareCorrectionThreshold = 4.0;
 
 // The pyramid's block edges in pixels, coarse to fine; 1 is the pixel level. The pixel level corrects
 // only where the last block level (4x4) did: pixels' pooled residuals cross the threshold by chance
 // far more often than blocks' (PT's noise per pixel is heavy-tailed, and its variance there rests on
 // few batches), and each such crossing puts PT's noise into an unbiased pixel. Without the gate the
-// Lambert house at 7 spp + 224 iterations had 1.5x the variance of --rb-level regional, with it 0.9x
-// and the same blocks (docs/results.md). Consistency then holds wherever RB's bias does not cancel
+// Lambert house at 7 spp + 224 iterations had 1.6x the variance of --rb-level regional, with it 0.9x
+// and the same blocks (docs/results.md, "Denoised images"). Consistency then holds wherever RB's bias does not cancel
 // exactly inside every 4x4 block of a 12x12-pixel neighbourhood.
 constexpr std::array<int, 5> kShareCorrectionBlocks = {32, 16, 8, 4, 1};
 
