@@ -38,10 +38,7 @@ int main(int argc, char** argv) {
       std::fputs(bp::main_help(), args.empty() ? stderr : stdout);
       return args.empty() ? 2 : 0;
     }
-    if (args[0] == "--version") {
-      std::printf("bundlepath %s\n", BUNDLEPATH_VERSION);
-      return 0;
-    }
+    if (args[0] == "--version") return bp::run_version();
     const std::string command = args[0];
     std::vector<std::string> rest(args.begin() + 1, args.end());
     for (const std::string& a : rest) {

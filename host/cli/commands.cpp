@@ -1,11 +1,14 @@
-// bundlepath devices and bundlepath compare (render lives in render_command.cpp).
+// bundlepath devices, compare and --version (render lives in render_command.cpp).
 #include "cli/commands.h"
 
 #include "device/device_context.h"
+#include "image/denoiser.h"
 #include "image/image.h"
+#include "image/video.h"
 
 #include <nlohmann/json.hpp>
 #include <cstdio>
+#include <memory>
 
 namespace bp {
 
@@ -15,6 +18,22 @@ int run_devices() {
                 d.platform_name.c_str(), d.is_gpu ? "GPU" : "CPU", d.driver_version.c_str(), d.compute_units,
                 static_cast<unsigned long long>(d.global_memory_bytes >> 20));
   }
+  return 0;
+}
+
+int run_version() {
+  std::printf("bundlepath %s\n", BUNDLEPATH_VERSION);
+  // The optional parts, as a render would find them now.
+  try {
+    const std::unique_ptr<Denoiser> oidn = Denoiser::open();
+    std::printf("  --denoise: OpenImageDenoise %d.%d.%d, %s\n", oidn->version() / 10000, oidn->version() / 100 % 100,
+                oidn->version() % 100, oidn->library_path().c_str());
+  } catch (const std::exception&) {
+    std::printf("  --denoise: OpenImageDenoise not found (bash scripts/setup.sh --oidn, or BUNDLEPATH_OIDN_LIBRARY)\n");
+  }
+  const std::string mpi = mpi_library();
+  std::printf("  MPI ranks: %s\n", mpi.empty() ? "not built in (install libopenmpi-dev and rebuild)" : mpi.c_str());
+  std::printf("  --video: %s\n", ffmpeg_on_path() ? "ffmpeg found on PATH" : "ffmpeg not on PATH");
   return 0;
 }
 

@@ -8,6 +8,8 @@
 namespace bp {
 
 int run_devices();
+// bundlepath --version: the version and the optional parts found (OpenImageDenoise, MPI, ffmpeg).
+int run_version();
 // ranks: the MPI job's processes (render/ranks.h); one when mpirun did not start this one.
 int run_render(const RenderOptions& options, const Ranks& ranks);
 // bundlepath compare IMAGE.exr REFERENCE.exr [--layer NAME] [--json]

@@ -100,6 +100,9 @@ outputs:
   --contact-sheet F   write F.png: unweighted PT, weighted PT, combined, unweighted RB,
                       weighted RB, reference (implies --layers all)
   --exposure STOPS    exposure of the PNG                                          [0]
+  --save-every S      also write the image files (EXR and PNG, the same layers) every S seconds
+                      while rendering, to watch it converge or stop early; with --denoise
+                      denoised too where that takes under a tenth of S               [off]
   --checkpoint-every S  seconds between the saves of --checkpoint                 [60]
   --regions N         the N x N grid of the regional error estimate (--stats' regional_error,
                       the EXR's region_error layer) and of --rb-level regional      [8]
@@ -308,6 +311,7 @@ RenderOptions parse_render_options(const std::vector<std::string>& args) {
       {"--checkpoint-every", [&](auto& k, auto& v) {
          o.checkpoint_every = parse_number<double>(k, v, 0.0, 1e7, "seconds >= 0");
        }},
+      {"--save-every", [&](auto& k, auto& v) { o.save_every = parse_number<double>(k, v, 1e-3, 1e7, "seconds > 0"); }},
       {"--resume", [&](auto&, auto& v) { o.resume_path = v; }},
       {"--time", [&](auto& k, auto& v) { o.seconds = parse_number<double>(k, v, 1e-3, 1e7, "seconds > 0"); }},
       {"--target-error", [&](auto& k, auto& v) {

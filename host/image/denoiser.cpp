@@ -14,6 +14,8 @@ constexpr int kDeviceTypeCpu = 1;   // OIDN_DEVICE_TYPE_CPU
 constexpr int kFormatFloat3 = 3;    // OIDN_FORMAT_FLOAT3
 constexpr int kQualityHigh = 6;     // OIDN_QUALITY_HIGH (final frames)
 constexpr int kErrorNone = 0;       // OIDN_ERROR_NONE
+// Where `cmake --install` puts scripts/setup.sh's copy, under the prefix (CMakeLists.txt).
+constexpr const char* kInstalledLibrary = "lib/bundlepath/oidn/lib/libOpenImageDenoise.so.2";
 
 std::string library_in(const std::string& place) {
   namespace fs = std::filesystem;
@@ -42,6 +44,10 @@ std::vector<std::string> denoiser_search_paths() {
   // Set, the variable is the one place: a user's choice is not overridden by a copy elsewhere.
   if (const char* env = std::getenv("BUNDLEPATH_OIDN_LIBRARY"); env && *env) return {library_in(env)};
   std::vector<std::string> places;
+  // An installed bundlepath's own copy (cmake --install puts it beside the binary's prefix).
+  std::error_code ec;
+  const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (!ec) places.push_back((exe.parent_path() / ".." / kInstalledLibrary).lexically_normal().string());
 #ifdef BUNDLEPATH_OIDN_DEFAULT_LIBRARY
   places.push_back(BUNDLEPATH_OIDN_DEFAULT_LIBRARY);
 #endif

@@ -23,7 +23,8 @@ class DenoiserUnavailable : public std::runtime_error {
 class Denoiser {
  public:
   // Opens the library: $BUNDLEPATH_OIDN_LIBRARY (a file or its folder) where set, and nothing else;
-  // else the copy scripts/setup.sh --oidn put in .deps/oidn (compiled in), then
+  // else an installed bundlepath's copy (PREFIX/lib/bundlepath/oidn), the copy scripts/setup.sh
+  // --oidn put in .deps/oidn (compiled in), then
   // libOpenImageDenoise.so.2 on the system's library path. Throws DenoiserUnavailable naming each
   // place it looked.
   static std::unique_ptr<Denoiser> open();
@@ -55,7 +56,7 @@ class Denoiser {
   int version_ = 0;
 };
 
-// The places Denoiser::open looks, in order (for its message and for `bundlepath devices`).
+// The places Denoiser::open looks, in order (for its message and `bundlepath --version`).
 std::vector<std::string> denoiser_search_paths();
 
 }  // namespace bp

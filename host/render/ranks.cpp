@@ -29,6 +29,18 @@ int launched_rank() {
   return 0;
 }
 
+std::string mpi_library() {
+#ifdef BUNDLEPATH_HAS_MPI
+  char text[MPI_MAX_LIBRARY_VERSION_STRING];
+  int length = 0;
+  MPI_Get_library_version(text, &length);  // callable before MPI_Init
+  const std::string version(text, std::size_t(std::max(length, 0)));
+  return version.substr(0, version.find_first_of(",\n"));
+#else
+  return "";
+#endif
+}
+
 #ifdef BUNDLEPATH_HAS_MPI
 
 void Ranks::sum_to_root(std::vector<double>& values) const {

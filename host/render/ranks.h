@@ -44,6 +44,9 @@ class Ranks {
 // before the job is joined: a bad command line is then reported by rank 0 alone.
 int launched_rank();
 
+// The MPI library this build renders ranks with ("Open MPI v4.1.4"); empty in a build without MPI.
+std::string mpi_library();
+
 // Joins the MPI job when an MPI launcher (mpirun) started this process -- MPI_Init here, MPI_Finalize
 // when destroyed -- else one rank. The CLI holds one for the render.
 class RankSession {

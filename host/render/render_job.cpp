@@ -300,7 +300,25 @@ void prepare_features(RenderState& s) {
     prefilter_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - before).count();
   }
   s.denoise_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  if (s.denoiser) s.reserved_seconds = s.denoise_seconds + kDenoiseCostOverPrefilter * prefilter_seconds;
+  s.beauty_denoise_seconds = kDenoiseCostOverPrefilter * prefilter_seconds;
+  if (s.denoiser) s.reserved_seconds = s.denoise_seconds + s.beauty_denoise_seconds;
+}
+
+// --save-every: every view's image files as they stand, written atomically like the final ones;
+// denoised where that takes under a tenth of the interval (else the raw image: said once).
+void save_images_so_far(RenderState& s, RenderObserver& observer, bool& said_raw) {
+  const bool denoise = s.denoiser && s.beauty_denoise_seconds < 0.1 * s.spec.save_every;
+  if (s.denoiser && !denoise && !said_raw) {
+    observer.note(printf_text("--save-every: the images saved while rendering are the raw ones (denoising "
+                              "takes about %.1f s, more than a tenth of %g s); the final image is denoised",
+                              s.beauty_denoise_seconds, s.spec.save_every));
+    said_raw = true;
+  }
+  for (const RenderView& view : s.views) {
+    RenderLayers layers = make_layers(s, view);
+    if (denoise) denoise_image(*s.denoiser, view, layers);
+    write_images(s, view, layers);
+  }
 }
 
 // What the render loop runs, and its round target.
@@ -369,7 +387,8 @@ std::string device_description(const RenderState& s) {
 void render_rounds(RenderState& s, RenderObserver& observer) {
   const RenderSpec& o = s.spec;
   std::uint64_t saved_rounds = s.first_round;
-  double last_save = 0.0;
+  double last_save = 0.0, last_image_save = 0.0;
+  bool said_raw = false;
   // Every rank starts the rounds together, so that a Ctrl-C once root has started finds every rank
   // ready to stop (its handler installed), however long its kernel builds took.
   s.ranks.wait_for_all();
@@ -445,6 +464,10 @@ void render_rounds(RenderState& s, RenderObserver& observer) {
           save_checkpoint(s, p.rounds_done, p.elapsed_seconds);
           saved_rounds = p.rounds_done;
           last_save = p.elapsed_seconds;
+        }
+        if (o.save_every > 0.0 && p.elapsed_seconds - last_image_save >= o.save_every) {
+          save_images_so_far(s, observer, said_raw);
+          last_image_save = p.elapsed_seconds;
         }
       },
       s.first_round);

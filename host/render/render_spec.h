@@ -59,6 +59,7 @@ struct RenderSpec {
   std::string contact_sheet_path;
   std::string checkpoint_path;   // --checkpoint FILE: written every checkpoint_every seconds and at the end
   double checkpoint_every = 60.0;
+  double save_every = 0.0;       // --save-every S: the image files written every S seconds of the rounds (0: at the end)
   std::string resume_path;       // --resume FILE: continue a checkpointed render
   float patch_size = 0.0f;       // metres; 0: derived from the scene's extent
   bool patch_clusters = true;    // --patch-clusters: merge flat triangles into clusters (scene/clusters.h)

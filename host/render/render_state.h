@@ -87,6 +87,7 @@ struct RenderState {
   std::unique_ptr<Denoiser> denoiser;  // --denoise
   double denoise_seconds = 0.0;        // the features, their prefilter and the beauty's denoise (root)
   double reserved_seconds = 0.0;       // of --time, kept for what comes after the rounds (--denoise)
+  double beauty_denoise_seconds = 0.0; // the beauty's denoise, estimated from the prefilter (--denoise)
 
   std::optional<Checkpoint> resumed;
   std::uint64_t first_round = 0;

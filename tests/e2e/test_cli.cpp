@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <vector>
 #include <fstream>
 #include <map>
@@ -28,6 +29,20 @@ TEST(Cli, HelpDocumentsEveryRenderOption) {
     EXPECT_NE(r.output.find(opt), std::string::npos) << opt;
   EXPECT_EQ(run_cli("--help").exit_code, 0);
   EXPECT_EQ(run_cli("--version").exit_code, 0);
+}
+
+// --version names the version and each optional part as a render would find it.
+TEST(Cli, VersionSaysWhichOptionalPartsItFound) {
+  const CliResult r = run_cli("--version");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(r.output.rfind(std::string("bundlepath ") + BUNDLEPATH_VERSION + "\n", 0), 0u) << r.output;
+  for (const char* part : {"--denoise: ", "MPI ranks: ", "--video: "})
+    EXPECT_NE(r.output.find(part), std::string::npos) << part << " missing:\n" << r.output;
+  if (const char* required = std::getenv("BUNDLEPATH_TEST_REQUIRE_OIDN"); required && std::string(required) == "1")
+    EXPECT_NE(r.output.find("--denoise: OpenImageDenoise 2."), std::string::npos) << r.output;
+  const CliResult none = run_cli("--version", "BUNDLEPATH_OIDN_LIBRARY=/nonexistent");
+  EXPECT_NE(none.output.find("--denoise: OpenImageDenoise not found (bash scripts/setup.sh --oidn"), std::string::npos)
+      << none.output;
 }
 
 TEST(Cli, UsageErrorsExitTwoAndNameTheOption) {
@@ -674,6 +689,33 @@ TEST(Cli, TimeBudgetStopsTheRender) {
   EXPECT_LT(stats["spp"].get<double>(), 1e8);
   EXPECT_FALSE(stats["interrupted"].get<bool>());
   EXPECT_LT(stats["render_seconds"].get<double>(), 120.0);  // a sanity bound (loaded CI machines), not a timing assertion
+}
+
+// --save-every: a 60 s render saving every 10 s has a readable image, with every layer, 20 s in
+// (copied while it still runs), which the final image (stopped by Ctrl-C at about 22 s) refines.
+TEST(Cli, SaveEveryLeavesAReadableImageWhileRendering) {
+  std::string dir = fresh_dir("save_every");
+  const std::string render = "'" + std::string(BP_BINARY) + "' render " + kScenes +
+                             "cornell-box.gltf --width 64 --height 64 --time 60 --save-every 10 --out " + dir + "/i";
+  CliResult r = run_shell(render + " 2>" + dir + "/log & pid=$!; for i in $(seq 600); do grep -q rendering " + dir +
+                          "/log && break; sleep 0.1; done; sleep 20; kill -0 $pid && echo running-at-20s; cp " + dir +
+                          "/i.exr " + dir + "/at20.exr; cp " + dir + "/i.png " + dir + "/at20.png; kill -INT $pid; wait $pid; " +
+                          "echo \"exit=$?\"; cat " + dir + "/log");
+  ASSERT_NE(r.output.find("running-at-20s"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("exit=130"), std::string::npos) << r.output;
+  ASSERT_TRUE(fs::exists(dir + "/at20.exr")) << "no image saved in the first 20 s\n" << r.output;
+  EXPECT_TRUE(fs::exists(dir + "/at20.png"));
+  const std::vector<std::string> saved = exr_layer_names(dir + "/at20.exr"), final = exr_layer_names(dir + "/i.exr");
+  EXPECT_EQ(saved, final) << "a saved image has the final one's layers";
+  const ImageRGB partial = read_exr(dir + "/at20.exr"), last = read_exr(dir + "/i.exr");
+  ASSERT_EQ(partial.width, 64);
+  double sum = 0.0, differs = 0.0;
+  for (std::size_t i = 0; i < partial.rgb.size(); ++i) {
+    sum += partial.rgb[i];
+    differs += std::abs(partial.rgb[i] - last.rgb[i]);
+  }
+  EXPECT_GT(sum, 0.0);
+  EXPECT_GT(differs, 0.0) << "the final image holds more samples than the one saved at 10 s";
 }
 
 TEST(Cli, SigintWritesTheSamplesDoneAndExits130) {
