@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -51,22 +52,32 @@ int main(int argc, char** argv) {
         return 0;
       }
     }
-    if (command == "devices") {
-      if (!rest.empty()) throw bp::UsageError("devices takes no arguments");
-      return bp::run_devices();
+    // The commands: what runs each; an unknown command's message lists them, in this order.
+    const std::vector<std::pair<std::string, std::function<int()>>> commands = {
+        {"render",
+         [&] {
+           // --verbose says only how much the kernel builds print; the render's options are the rest.
+           if (const auto v = std::remove(rest.begin(), rest.end(), "--verbose"); v != rest.end()) {
+             bp::set_verbose_kernel_builds(true);
+             rest.erase(v, rest.end());
+           }
+           const bp::RenderOptions options = bp::parse_render_options(rest);
+           session.emplace();
+           return bp::run_render(options, session->ranks());
+         }},
+        {"devices",
+         [&] {
+           if (!rest.empty()) throw bp::UsageError("devices takes no arguments");
+           return bp::run_devices();
+         }},
+        {"compare", [&] { return bp::run_compare(rest); }},
+    };
+    std::string names;
+    for (const auto& [name, run] : commands) {
+      if (name == command) return run();
+      names += (names.empty() ? "" : ", ") + name;
     }
-    if (command == "render") {
-      // --verbose says only how much the kernel builds print; the render's options are the rest.
-      if (const auto v = std::remove(rest.begin(), rest.end(), "--verbose"); v != rest.end()) {
-        bp::set_verbose_kernel_builds(true);
-        rest.erase(v, rest.end());
-      }
-      const bp::RenderOptions options = bp::parse_render_options(rest);
-      session.emplace();
-      return bp::run_render(options, session->ranks());
-    }
-    if (command == "compare") return bp::run_compare(rest);
-    throw bp::UsageError("unknown command '" + command + "' (commands: render, devices; see --help)");
+    throw bp::UsageError("unknown command '" + command + "' (commands: " + names + "; see --help)");
   } catch (const bp::UsageError& e) {
     return fail(session, e, 2);
   } catch (const bp::NoPlatformError& e) {

@@ -44,8 +44,14 @@ usage:
              [--layer NAME] [--json]
   bundlepath --help | --version
 
-exit codes: 0 done; 1 device or I/O failure; 2 bad command line or no OpenCL platform;
-            3 the scene file cannot be used; 130 interrupted (the samples done so far were written)
+exit codes:
+  0    done
+  1    a device or ffmpeg failed, a file could not be read or written, or no device matches --device
+  2    a bad command line, a run too large for the device, or a missing OpenCL driver, ffmpeg,
+       OpenImageDenoise or MPI
+  3    the scene, its environment map or its camera path cannot be used
+  130  interrupted: the samples done so far were written
+every message and what to do: docs/guide.md, "Troubleshooting"
 )";
 }
 

@@ -61,7 +61,7 @@ std::unique_ptr<Denoiser> Denoiser::open() {
     void* handle = dlopen(place.c_str(), RTLD_NOW | RTLD_LOCAL);
     if (!handle) {
       const char* why = dlerror();
-      tried += "\n  " + place + ": " + (why ? why : "cannot open");
+      tried += (tried.empty() ? "" : "; ") + place + ": " + (why ? why : "cannot open");
       continue;
     }
     auto api = std::make_unique<Api>();
@@ -84,15 +84,15 @@ std::unique_ptr<Denoiser> Denoiser::open() {
     bind(api->release_filter, "oidnReleaseFilter");
     if (!complete) {
       dlclose(handle);
-      tried += "\n  " + place + ": not OpenImageDenoise 2 (a function of its API is missing)";
+      tried += (tried.empty() ? "" : "; ") + place + ": not OpenImageDenoise 2 (a function of its API is missing)";
       continue;
     }
     return std::unique_ptr<Denoiser>(new Denoiser(handle, place, std::move(api)));
   }
   throw DenoiserUnavailable(
-      "--denoise needs OpenImageDenoise 2 (libOpenImageDenoise.so.2), which was not found:" + tried +
-      "\nInstall it with `bash scripts/setup.sh --oidn` (the official runtime from PyPI's pyoidn, beside the "
-      "build; then rebuild), or set BUNDLEPATH_OIDN_LIBRARY to the library or its folder.");
+      "--denoise needs OpenImageDenoise 2 (libOpenImageDenoise.so.2), which was not found (" + tried +
+      "): install it with `bash scripts/setup.sh --oidn` (the official runtime from PyPI's pyoidn, beside the "
+      "build; then rebuild), or set BUNDLEPATH_OIDN_LIBRARY to the library or its folder");
 }
 
 Denoiser::Denoiser(void* handle, std::string path, std::unique_ptr<Api> api)

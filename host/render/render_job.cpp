@@ -121,6 +121,25 @@ TargetProgress target_progress(const RenderState& s, std::uint64_t rounds_done) 
   return t;
 }
 
+// The entries of a checkpoint key ("name=value;…", checkpoint_key.h) that `other` lacks, space-separated.
+std::string key_entries_not_in(const std::string& key, const std::string& other) {
+  std::vector<std::string> theirs;
+  for (std::size_t at = 0; at <= other.size();) {
+    const std::size_t end = std::min(other.find(';', at), other.size());
+    theirs.push_back(other.substr(at, end - at));
+    at = end + 1;
+  }
+  std::string out;
+  for (std::size_t at = 0; at <= key.size();) {
+    const std::size_t end = std::min(key.find(';', at), key.size());
+    const std::string entry = key.substr(at, end - at);
+    if (!entry.empty() && std::find(theirs.begin(), theirs.end(), entry) == theirs.end())
+      out += (out.empty() ? "" : " ") + entry;
+    at = end + 1;
+  }
+  return out.empty() ? "-" : out;
+}
+
 // A resumed render starts from the checkpoint's accumulators, ray-bundle state and round count.
 void resume(RenderState& s) {
   const RenderSpec& o = s.spec;
@@ -130,8 +149,8 @@ void resume(RenderState& s) {
   if (!s.resumed) return;
   Checkpoint& c = *s.resumed;
   if (c.options != s.key)
-    throw UsageError("--resume " + o.resume_path + " was saved with other options:\n  saved: " + c.options +
-                     "\n  now:   " + s.key);
+    throw UsageError("--resume " + o.resume_path + " was saved with other options: saved " +
+                     key_entries_not_in(c.options, s.key) + "; now " + key_entries_not_in(s.key, c.options));
   // The key holds a walkthrough's views: the checkpoint has as many.
   if (c.further_views.size() + 1 != s.views.size())
     throw UsageError("--resume " + o.resume_path + " holds " + std::to_string(c.further_views.size() + 1) +

@@ -88,7 +88,11 @@ static void build_rb_pass(RenderState& s) {
   std::vector<RayBundleView> views;
   for (RenderView& view : s.views)
     views.push_back(RayBundleView{view.camera, s.rb_pass_accum ? s.rb_pass_accum : &view.rb_accum});
-  s.rb = std::make_unique<RayBundlePass>(s.rb_device().context, s.rb_device().scene, *s.geometry, views, s.rb_settings);
+  try {  // more fragment slots than it can address: a run that does not fit, as check_bundle_memory's
+    s.rb = std::make_unique<RayBundlePass>(s.rb_device().context, s.rb_device().scene, *s.geometry, views, s.rb_settings);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
 }
 
 // Whether PT keeps its unweighted sums: for --layers all, and for the corrected RB level.
