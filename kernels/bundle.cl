@@ -751,7 +751,8 @@ static Bsdf eye_hit_bsdf(const EyeHit* h, uint pixel, const BundleIteration* it,
   *ns = *n;
   if (BP_FEATURE_SHADING_NORMALS && it->shading_normals) {
     float4 e = eye_normals[pixel];
-    *ns = make_float3(e.x, e.y, e.z);
+    // as the path tracer's eye vertex has it (brdf.h): the patch normal is the hit's flat one
+    *ns = bsdf_shading_normal(&bsdf, *n, make_float3(h->wo[0], h->wo[1], h->wo[2]), make_float3(e.x, e.y, e.z));
   }
   return bsdf;
 }

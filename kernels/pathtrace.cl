@@ -229,6 +229,8 @@ static PathRadiance trace_path(const SceneRefs* scene, const PathTraceParams* pa
     delta_run = 0u;
     Bsdf bsdf = pt_bsdf(scene, &surface, &hit);
     float3 wo = -dir;
+    if (BP_FEATURE_SHADING_NORMALS)  // the normal a glossy lobe can use from wo (brdf.h)
+      surface.shading_normal = bsdf_shading_normal(&bsdf, surface.normal, wo, surface.shading_normal);
 
     // Emission picked up after this prefix, weighted with w_PT of the prefix (docs/design.md §3); with
     // light sampling, as the PT BSDF technique of the last segment unless the eye sees it.

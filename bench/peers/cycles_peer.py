@@ -222,8 +222,11 @@ def make_mesh(mesh, mat, m):
         me.normals_split_custom_set_from_vertices([tuple(n) for n in mesh["normals"]])
     me.update()
     obj = bpy.data.objects.new(mesh["name"], me)
-    obj.cycles.shadow_terminator_offset = 0.0
-    obj.cycles.shadow_terminator_geometry_offset = 0.0
+    # Blender 5 reads the Object's own settings (its default geometry offset, 0.1, lights a smooth
+    # face whose flat normal is turned from a light); obj.cycles.shadow_terminator_* are not read.
+    obj.shadow_terminator_geometry_offset = 0.0
+    obj.shadow_terminator_shading_offset = 0.0
+    obj.shadow_terminator_normal_offset = 0.0
     return obj
 
 

@@ -10,6 +10,7 @@
 #include "shared/frame.h"
 #include "shared/metallic_roughness.h"
 #include "shared/types.h"
+#include "shared/view_normal.h"
 
 typedef struct {
   float3 kd;
@@ -75,7 +76,9 @@ BP_FN BsdfValue bsdf_evaluate(const Bsdf* b, float3 n, float3 wi, float3 wo) {
     return v;
   }
   const int front = dot(n, wo) > 0.0f;
-  if (front) v.f = b->kd * BP_INV_PI;
+  // Lambert's term does not depend on the view: a viewer behind an interpolated normal still sees
+  // the light it receives, as in Cycles (bsdf_shading_normal)
+  v.f = b->kd * BP_INV_PI;
   if (!BP_FEATURE_PHONG || b->p_diffuse >= 1.0f) {  // Lambert: no cos^n
     v.pdf_uv = pdf_uv_cosine(cos_theta);
     return v;
@@ -89,6 +92,18 @@ BP_FN BsdfValue bsdf_evaluate(const Bsdf* b, float3 n, float3 wi, float3 wo) {
   // Phong lobe around the mirror direction: pdf_uv = (n+1) cos^n(alpha)   (docs/design.md §2)
   v.pdf_uv = b->p_diffuse * pdf_uv_cosine(cos_theta) + (1.0f - b->p_diffuse) * ((b->shininess + 1.0f) * lobe);
   return v;
+}
+
+// The shading normal the BSDF evaluates and samples with at a vertex seen from wo (ng: the flat
+// normal on wo's side, ns the interpolated or mapped one). A Lambert surface keeps ns: its term does
+// not depend on the view (bsdf_evaluate). A surface with a lobe around the mirror direction (Phong's,
+// glTF's GGX layer) gets ns bent until the mirror of wo is above the surface (valid_reflection_normal),
+// so the viewer is in front of it: Cycles bends its glossy closures' normals so; here the whole
+// BSDF, diffuse base included, evaluates about the bent normal. Both estimators call this with the
+// same ng, wo and ns at the eye vertex, so they reflect alike.
+BP_FN float3 bsdf_shading_normal(const Bsdf* b, float3 ng, float3 wo, float3 ns) {
+  const int lambert = !bsdf_is_ggx(b) && (!BP_FEATURE_PHONG || b->p_diffuse >= 1.0f);
+  return lambert ? ns : valid_reflection_normal(ng, wo, ns);
 }
 
 BP_FN float3 bsdf_eval(const Bsdf* b, float3 n, float3 wi, float3 wo) { return bsdf_evaluate(b, n, wi, wo).f; }

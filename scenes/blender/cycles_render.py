@@ -90,8 +90,11 @@ def main():
                                                                    tuple(light.color)))
     for obj in scene.objects:
         if obj.type == 'MESH':
-            obj.cycles.shadow_terminator_offset = 0.0
-            obj.cycles.shadow_terminator_geometry_offset = 0.0
+            # Blender 5 reads the Object's own settings (its default geometry offset, 0.1, lights a smooth
+            # face whose flat normal is turned from a light); obj.cycles.shadow_terminator_* are not read.
+            obj.shadow_terminator_geometry_offset = 0.0
+            obj.shadow_terminator_shading_offset = 0.0
+            obj.shadow_terminator_normal_offset = 0.0
     cams = [o for o in scene.objects if o.type == 'CAMERA']
     if not cams:
         raise SystemExit("no camera in " + scene_path)

@@ -302,7 +302,8 @@ TEST(Docs, EveryRenderOptionIsInTheGuideAndEveryGuideOptionInTheHelp) {
   // Options of other commands and programs that the guide may name.
   const std::set<std::string> others = {"--version", "--layer", "--json",  // bundlepath --version, compare
                                         "--oversubscribe", "--allow-run-as-root", "--mca",  // mpirun
-                                        "--oidn"};  // scripts/setup.sh
+                                        "--oidn",                                            // scripts/setup.sh
+                                        "--install", "--prefix"};                            // cmake --install
   for (const std::string& o : mentioned_options(guide))
     EXPECT_TRUE(all.count(o) || others.count(o)) << "docs/guide.md names " << o << ", which `render --help-all` does not";
 

@@ -127,6 +127,41 @@ TEST(NormalMaps, TiltedConstantMapScalesTheSunlitQuadByTheCosineRatio) {
   expect_uniform_image(run.combined, mapped_l, double(cs.rounds), "combined, tilted map");
 }
 
+// A view behind the mapped normal (a normal map, or a smooth-shaded rim, seen at a grazing angle):
+// the normal map tilts the shading normal 70 degrees away from a camera that looks along the floor,
+// so every pixel's view is behind it, though in front of the floor. Lambert's term does not depend
+// on the view, so each pixel still reads kd/pi cos(theta_shading) of the sun, in both estimators
+// (brdf.h, bsdf_shading_normal); it used to be black.
+TEST(NormalMaps, AViewBehindTheMappedNormalStillSeesTheLambertFloor) {
+  Scene floor = sunlit_quad();
+  const glm::vec3 p[4] = {{-10, -10, 0}, {10, -10, 0}, {10, 10, 0}, {-10, 10, 0}};
+  floor.triangles = {{{p[0], p[1], p[2]}, 0}, {{p[0], p[2], p[3]}, 0}};
+  floor.bounds = {};
+  for (const glm::vec3& q : p) floor.bounds.grow(q);
+  floor.camera.position = glm::vec3(0.0f, 0.0f, 0.5f);  // 0.5 m above the floor, 27 degrees down
+  floor.camera.forward = glm::normalize(glm::vec3(1.0f, 0.0f, -0.5f));
+  floor.camera.up = glm::normalize(glm::vec3(0.5f, 0.0f, 1.0f));
+  floor.camera.yfov = 0.3f;                             // the top row 18 degrees down: all floor
+  const unsigned texel[3] = {247, 128, 171};            // n_ts about (0.94, 0, 0.34): 70 degrees toward +x
+  add_normal_map(floor, 0, 1, 1, {texel[0], texel[1], texel[2]}, 1.0f, 1.0f, glm::vec3(1, 0, 0));
+  const glm::dvec3 mapped =
+      glm::normalize(glm::dvec3(2.0 * texel[0] / 255.0 - 1.0, 2.0 * texel[1] / 255.0 - 1.0, 2.0 * texel[2] / 255.0 - 1.0));
+  const glm::dvec3 top_view = -glm::normalize(glm::dvec3(1.0, 0.0, -0.5 + std::tan(0.15)));
+  ASSERT_LT(glm::dot(mapped, top_view), -0.5) << "the case: every view behind the mapped normal";
+  const double l = kKd / M_PI * glm::dot(mapped, kToSun);
+  const int spp = 16;
+  expect_uniform_image(render_pt(floor, kQuadSize, kQuadSize, spp, 9).image, l, spp, "PT, view behind the normal");
+  CombinedSettings cs;
+  cs.light_sampling = true;
+  cs.eye_direct_shared = true;
+  cs.rounds = 8;
+  cs.patch_size = 2.0f;
+  const CombinedRun run = render_combined(floor, kQuadSize, kQuadSize, cs);
+  const double rb_share = 4.0 / 5.0;  // as in the test above
+  expect_uniform_image(run.rb, rb_share * l, double(cs.rounds), "RB layer, view behind the normal");
+  expect_uniform_image(run.pt, (1.0 - rb_share) * l, double(cs.rounds), "PT layer, view behind the normal");
+}
+
 // KHR_texture_transform turns the map's slopes with its image: the same texel through a uv rotated by
 // a quarter turn tilts the shading normal a quarter turn about N (normal_map_untransformed).
 TEST(NormalMaps, ARotatedMapsSlopesTurnWithItsImage) {
