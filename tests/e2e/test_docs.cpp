@@ -3,6 +3,7 @@
 // user-facing text cites no issue numbers nor names from the code, the results book opens with a
 // summary and a contents list of every section, and every link between the documents lands.
 #include "e2e/cli_runner.h"
+#include "e2e/doc_text.h"
 
 #include <gtest/gtest.h>
 #include <algorithm>
@@ -21,20 +22,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-std::vector<std::string> lines_of(const std::string& text) {
-  std::vector<std::string> lines;
-  std::istringstream in(text);
-  for (std::string line; std::getline(in, line);) lines.push_back(line);
-  return lines;
-}
-
 std::string join(const std::set<std::string>& names) {
   std::string out;
   for (const std::string& n : names) out += (out.empty() ? "" : " ") + n;
@@ -50,23 +37,6 @@ std::set<std::string> help_options(const std::string& help) {
   for (const std::string& line : lines_of(help))
     if (std::regex_search(line, m, option_line)) options.insert(m[1]);
   return options;
-}
-
-// The lines of a Markdown file's section, from its heading to the next heading of its level or above.
-std::vector<std::string> section(const std::string& markdown, const std::string& heading) {
-  std::vector<std::string> out;
-  bool inside = false;
-  const std::size_t level = heading.find(' ');
-  for (const std::string& line : lines_of(markdown)) {
-    if (line == heading) {
-      inside = true;
-      continue;
-    }
-    if (inside && line.rfind(std::string(level, '#') + " ", 0) == 0) break;
-    if (inside && line.rfind(std::string(level - 1, '#') + " ", 0) == 0 && level > 1) break;
-    if (inside) out.push_back(line);
-  }
-  return out;
 }
 
 // The options of the guide's table "Every option": the `--name` tokens of each row's first cell.

@@ -29,6 +29,7 @@
 // from variables (with the row that documents them all), and internal invariants, which no user
 // input reaches (they would be bugs, reported like any other error).
 #include "e2e/cli_runner.h"
+#include "e2e/doc_text.h"
 
 #include <gtest/gtest.h>
 #include <algorithm>
@@ -50,39 +51,6 @@ namespace bp::test {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-std::vector<std::string> lines_of(const std::string& text) {
-  std::vector<std::string> lines;
-  std::istringstream in(text);
-  for (std::string line; std::getline(in, line);) lines.push_back(line);
-  return lines;
-}
-
-// The lines of a Markdown file's section, from its heading to the next heading of its level or above.
-std::vector<std::string> section(const std::string& markdown, const std::string& heading) {
-  std::vector<std::string> out;
-  bool inside = false;
-  const std::size_t level = heading.find(' ');
-  for (const std::string& line : lines_of(markdown)) {
-    if (line == heading) {
-      inside = true;
-      continue;
-    }
-    if (!inside) continue;
-    bool higher = false;
-    for (std::size_t l = 1; l <= level; ++l) higher = higher || line.rfind(std::string(l, '#') + " ", 0) == 0;
-    if (higher) break;
-    out.push_back(line);
-  }
-  return out;
-}
 
 std::string trimmed(const std::string& s) {
   const std::size_t b = s.find_first_not_of(" \t");

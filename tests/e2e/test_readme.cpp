@@ -1,11 +1,12 @@
 // The README's front page keeps its promises: at most 200 lines, a results table of at most 8 rows,
 // and every ratio its text states ("5× below") is the ratio of two figures in one row of that table,
 // to the digits stated; every relMSE figure in the comparison's text is one of the table's.
+#include "e2e/doc_text.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <regex>
 #include <sstream>
 #include <string>
@@ -16,12 +17,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::vector<std::string> readme_lines() {
-  std::ifstream in(fs::path(BP_SOURCE_DIR) / "README.md");
-  std::vector<std::string> lines;
-  for (std::string line; std::getline(in, line);) lines.push_back(line);
-  return lines;
-}
+std::vector<std::string> readme_lines() { return lines_of(read_text(fs::path(BP_SOURCE_DIR) / "README.md")); }
 
 constexpr const char* kTableSection = "## How it compares";
 
