@@ -442,5 +442,31 @@ TEST(Docs, ReadmeQuickStartRuns) {
   }
 }
 
+// Every "docs/design.md §N" the code cites names a numbered section of the design document, and no
+// code cites the notes it was first written from ("DESIGN §N").
+TEST(Docs, EveryDesignSectionTheCodeCitesExists) {
+  std::set<int> sections;
+  static const std::regex heading(R"(^## (\d+)\. )");
+  std::smatch m;
+  for (const std::string& line : lines_of(read_text(kSource / "docs/design.md")))
+    if (std::regex_search(line, m, heading)) sections.insert(std::stoi(m[1]));
+  ASSERT_GE(sections.size(), 10u) << "docs/design.md's numbered sections were not found";
+  static const std::regex cite(R"(design\.md §(\d+))"), old_cite(R"(\bDESIGN §)");
+  int citations = 0;
+  for (const char* folder : {"host", "kernels", "tests"})
+    for (const auto& entry : fs::recursive_directory_iterator(kSource / folder)) {
+      const std::string ext = entry.path().extension().string();
+      if (!entry.is_regular_file() || (ext != ".cpp" && ext != ".h" && ext != ".cl")) continue;
+      if (entry.path().filename() == "test_docs.cpp") continue;  // this test names both forms
+      const std::string text = read_text(entry.path());
+      for (auto it = std::sregex_iterator(text.begin(), text.end(), cite); it != std::sregex_iterator(); ++it) {
+        ++citations;
+        EXPECT_TRUE(sections.count(std::stoi((*it)[1]))) << entry.path() << " cites " << it->str(0) << ", which does not exist";
+      }
+      EXPECT_FALSE(std::regex_search(text, old_cite)) << entry.path() << " cites DESIGN §, a file the repository does not have";
+    }
+  EXPECT_GT(citations, 50) << "the test found too few citations to be reading the code";
+}
+
 }  // namespace
 }  // namespace bp::test
