@@ -92,7 +92,7 @@ std::unique_ptr<Denoiser> Denoiser::open() {
   throw DenoiserUnavailable(
       "--denoise needs OpenImageDenoise 2 (libOpenImageDenoise.so.2), which was not found (" + tried +
       "): install it with `bash scripts/setup.sh --oidn` (the official runtime from PyPI's pyoidn, beside the "
-      "build; then rebuild), or set BUNDLEPATH_OIDN_LIBRARY to the library or its folder");
+      "build, where it is found without a rebuild), or set BUNDLEPATH_OIDN_LIBRARY to the library or its folder");
 }
 
 Denoiser::Denoiser(void* handle, std::string path, std::unique_ptr<Api> api)
