@@ -29,11 +29,11 @@ full colour at 50 %; yellow: a black block), side by side, sRGB (no Pillow neede
 """
 import argparse
 import json
-import struct
-import zlib
 
 import numpy as np
 import OpenEXR
+
+from pbr_room_compare import png_write  # bench/: numpy-only PNG writer
 
 Y = np.array([0.2126, 0.7152, 0.0722])
 BLOCK = 4
@@ -84,18 +84,6 @@ def srgb8(x):
     x = np.clip(x, 0.0, 1.0)
     s = np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1 / 2.4) - 0.055)
     return (255.0 * s + 0.5).astype(np.uint8)
-
-
-def png_write(path, rgb8):
-    h, w, _ = rgb8.shape
-    raw = b"".join(b"\x00" + rgb8[j].tobytes() for j in range(h))
-
-    def chunk(kind, data):
-        c = struct.pack(">I", len(data)) + kind + data
-        return c + struct.pack(">I", zlib.crc32(kind + data) & 0xffffffff)
-    with open(path, "wb") as f:
-        f.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 2, 0, 0, 0)) +
-                chunk(b"IDAT", zlib.compress(raw, 9)) + chunk(b"IEND", b""))
 
 
 def diff_picture(ours, ref, black):
